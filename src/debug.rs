@@ -1,0 +1,121 @@
+//! Pictures of the method's intermediate results, for `--debug-dir` and for reading the code
+//! against the paper: the VSM (Fig. 2f), its saliency levels (Fig. 6) and the mesh over the
+//! image before and after the warp (Fig. 11).
+
+use crate::image::{Image, Size};
+use crate::saliency::{SaliencyLevel, Vsm};
+use glam::DVec2;
+
+/// The VSM as a grey-scale image (white = 1).
+pub fn vsm_image(vsm: &Vsm) -> Image {
+    let px = vsm
+        .values()
+        .iter()
+        .map(|&v| {
+            let g = (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+            [g, g, g, 255]
+        })
+        .collect();
+    Image::from_pixels(vsm.size(), px).expect("same size")
+}
+
+/// Colour of each saliency level in [`levels_image`].
+pub const LEVEL_COLOURS: [[u8; 4]; 3] = [
+    [245, 245, 245, 255],
+    [253, 174, 97, 255],
+    [215, 25, 28, 255],
+];
+
+/// The saliency levels: k = 1 light grey, k = 2 orange, k = 3 red.
+pub fn levels_image(vsm: &Vsm) -> Image {
+    let px = vsm
+        .values()
+        .iter()
+        .map(|&v| LEVEL_COLOURS[SaliencyLevel::of(v).index()])
+        .collect();
+    Image::from_pixels(vsm.size(), px).expect("same size")
+}
+
+/// `base` with the triangles' edges drawn over it (anti-aliased, blue) and vertices as dots.
+pub fn mesh_overlay(base: &Image, vertices: &[DVec2], triangles: &[[u32; 3]]) -> Image {
+    let mut img = base.clone();
+    let mut edges: Vec<(u32, u32)> = triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    for (a, b) in edges {
+        draw_line(
+            &mut img,
+            vertices[a as usize],
+            vertices[b as usize],
+            [30, 80, 220],
+            0.75,
+        );
+    }
+    for &v in vertices {
+        draw_dot(&mut img, v, [20, 20, 120]);
+    }
+    img
+}
+
+fn blend(img: &mut Image, x: i64, y: i64, rgb: [u8; 3], a: f32) {
+    let Size { width, height } = img.size();
+    if x < 0 || y < 0 || x >= width as i64 || y >= height as i64 || a <= 0.0 {
+        return;
+    }
+    let p = img.get(x as u32, y as u32);
+    let mix = |c: u8, d: u8| (c as f32 * (1.0 - a) + d as f32 * a + 0.5) as u8;
+    img.set(
+        x as u32,
+        y as u32,
+        [
+            mix(p[0], rgb[0]),
+            mix(p[1], rgb[1]),
+            mix(p[2], rgb[2]),
+            p[3].max((a * 255.0) as u8),
+        ],
+    );
+}
+
+/// Xiaolin Wu's anti-aliased line (pixel centres at `i + 0.5`).
+fn draw_line(img: &mut Image, a: DVec2, b: DVec2, rgb: [u8; 3], alpha: f32) {
+    let (mut a, mut b) = (a - DVec2::splat(0.5), b - DVec2::splat(0.5));
+    let steep = (b.y - a.y).abs() > (b.x - a.x).abs();
+    if steep {
+        a = DVec2::new(a.y, a.x);
+        b = DVec2::new(b.y, b.x);
+    }
+    if a.x > b.x {
+        std::mem::swap(&mut a, &mut b);
+    }
+    let dx = b.x - a.x;
+    let grad = if dx == 0.0 { 0.0 } else { (b.y - a.y) / dx };
+    let x0 = a.x.round() as i64;
+    let x1 = b.x.round() as i64;
+    for x in x0..=x1 {
+        let y = a.y + grad * (x as f64 - a.x);
+        let yf = y.floor();
+        let f = (y - yf) as f32;
+        let yi = yf as i64;
+        for (yy, cov) in [(yi, 1.0 - f), (yi + 1, f)] {
+            if steep {
+                blend(img, yy, x, rgb, cov * alpha);
+            } else {
+                blend(img, x, yy, rgb, cov * alpha);
+            }
+        }
+    }
+}
+
+fn draw_dot(img: &mut Image, c: DVec2, rgb: [u8; 3]) {
+    let (cx, cy) = (c.x.floor() as i64, c.y.floor() as i64);
+    for dy in -1..=1 {
+        for dx in -1..=1 {
+            let a = if dx == 0 && dy == 0 { 1.0 } else { 0.5 };
+            blend(img, cx + dx, cy + dy, rgb, a);
+        }
+    }
+}

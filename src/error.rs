@@ -1,0 +1,63 @@
+//! The library's one error type. Variants are the ones a caller acts on differently.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in the library.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// An option is out of range; the message names the value and what is allowed.
+    #[error("invalid option: {0}")]
+    InvalidOptions(String),
+
+    /// A width or height is zero or above [`crate::MAX_SIDE`].
+    #[error("invalid size {width}x{height}: each side must be between 1 and {max}", max = crate::MAX_SIDE)]
+    InvalidSize { width: u32, height: u32 },
+
+    /// A frame's size differs from the stream's.
+    #[error("frame {frame_index} is {got}, but the stream is {expected}")]
+    FrameSizeMismatch {
+        frame_index: u64,
+        expected: crate::Size,
+        got: crate::Size,
+    },
+
+    /// An input could not be decoded (corrupt, truncated or unsupported).
+    #[error("{}: {message}", path.display())]
+    Decode { path: PathBuf, message: String },
+
+    /// Reading or writing failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// The sparse solver failed, which only happens on a malformed mesh (a bug).
+    #[error("the linear solve failed: {0}")]
+    Solve(String),
+
+    /// The input had no frames at all.
+    #[error("no frames in {}", .0.display())]
+    NoFrames(PathBuf),
+
+    /// A stage stopped because another one failed or the run was cancelled.
+    #[error("aborted")]
+    Aborted,
+}
+
+impl Error {
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Error {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+    pub(crate) fn decode(path: impl Into<PathBuf>, message: impl Into<String>) -> Error {
+        Error::Decode {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+}

@@ -1,0 +1,181 @@
+//! Owned and borrowed RGBA8 rasters.
+//!
+//! Every stage works on straight (not premultiplied) RGBA8 in rows; the renderer premultiplies on
+//! the fly while filtering so that transparent pixels never bleed colour into their neighbours.
+
+use crate::error::Error;
+
+/// Width and height in pixels. Both are at least 1 once validated by [`Size::new`].
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Largest side the library accepts, for inputs and targets alike: 16384 px, as most GPUs and
+/// image tools. Bigger values are almost always a typo and would allocate gigabytes.
+pub const MAX_SIDE: u32 = 16384;
+
+impl Size {
+    /// A checked size: both sides in `1..=MAX_SIDE`.
+    pub fn new(width: u32, height: u32) -> Result<Size, Error> {
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(Error::InvalidSize { width, height });
+        }
+        Ok(Size { width, height })
+    }
+
+    /// Number of pixels.
+    pub fn area(self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}
+
+impl std::fmt::Display for Size {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}x{}", self.width, self.height)
+    }
+}
+
+/// An owned RGBA8 image, rows top to bottom, no padding.
+#[derive(Clone, PartialEq, Eq)]
+pub struct Image {
+    size: Size,
+    data: Vec<[u8; 4]>,
+}
+
+impl std::fmt::Debug for Image {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Image").field("size", &self.size).finish()
+    }
+}
+
+impl Image {
+    /// A transparent black image.
+    pub fn new(size: Size) -> Image {
+        Image {
+            size,
+            data: vec![[0; 4]; size.area()],
+        }
+    }
+
+    /// An image filled with one colour.
+    pub fn filled(size: Size, rgba: [u8; 4]) -> Image {
+        Image {
+            size,
+            data: vec![rgba; size.area()],
+        }
+    }
+
+    /// Wraps RGBA8 pixels; `None` if the length does not match the size.
+    pub fn from_pixels(size: Size, data: Vec<[u8; 4]>) -> Option<Image> {
+        (data.len() == size.area()).then_some(Image { size, data })
+    }
+
+    /// Copies packed RGBA8 bytes (4 per pixel); `None` if the length does not match.
+    pub fn from_rgba_bytes(size: Size, bytes: &[u8]) -> Option<Image> {
+        if bytes.len() != size.area() * 4 {
+            return None;
+        }
+        let data = bytes
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        Some(Image { size, data })
+    }
+
+    pub fn size(&self) -> Size {
+        self.size
+    }
+    pub fn width(&self) -> u32 {
+        self.size.width
+    }
+    pub fn height(&self) -> u32 {
+        self.size.height
+    }
+
+    /// Pixels, row-major.
+    pub fn pixels(&self) -> &[[u8; 4]] {
+        &self.data
+    }
+    pub fn pixels_mut(&mut self) -> &mut [[u8; 4]] {
+        &mut self.data
+    }
+
+    /// The pixels as packed bytes (RGBA, 4 per pixel).
+    pub fn as_bytes(&self) -> &[u8] {
+        self.data.as_flattened()
+    }
+
+    pub fn into_pixels(self) -> Vec<[u8; 4]> {
+        self.data
+    }
+
+    /// A borrowed view.
+    pub fn as_ref(&self) -> ImageRef<'_> {
+        ImageRef {
+            size: self.size,
+            data: &self.data,
+        }
+    }
+
+    /// One row.
+    pub fn row(&self, y: u32) -> &[[u8; 4]] {
+        let w = self.size.width as usize;
+        &self.data[y as usize * w..(y as usize + 1) * w]
+    }
+
+    pub fn row_mut(&mut self, y: u32) -> &mut [[u8; 4]] {
+        let w = self.size.width as usize;
+        &mut self.data[y as usize * w..(y as usize + 1) * w]
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> [u8; 4] {
+        self.data[y as usize * self.size.width as usize + x as usize]
+    }
+
+    pub fn set(&mut self, x: u32, y: u32, rgba: [u8; 4]) {
+        let w = self.size.width as usize;
+        self.data[y as usize * w + x as usize] = rgba;
+    }
+
+    /// True when every pixel is fully opaque.
+    pub fn is_opaque(&self) -> bool {
+        self.data.iter().all(|p| p[3] == 255)
+    }
+}
+
+/// A borrowed RGBA8 image.
+#[derive(Copy, Clone, Debug)]
+pub struct ImageRef<'a> {
+    size: Size,
+    data: &'a [[u8; 4]],
+}
+
+impl<'a> ImageRef<'a> {
+    /// `None` if the slice length does not match the size.
+    pub fn new(size: Size, data: &'a [[u8; 4]]) -> Option<ImageRef<'a>> {
+        (data.len() == size.area()).then_some(ImageRef { size, data })
+    }
+    pub fn size(&self) -> Size {
+        self.size
+    }
+    pub fn width(&self) -> u32 {
+        self.size.width
+    }
+    pub fn height(&self) -> u32 {
+        self.size.height
+    }
+    pub fn pixels(&self) -> &'a [[u8; 4]] {
+        self.data
+    }
+    pub fn rows(&self) -> std::slice::ChunksExact<'a, [u8; 4]> {
+        self.data.chunks_exact(self.size.width as usize)
+    }
+    pub fn to_owned(&self) -> Image {
+        Image {
+            size: self.size,
+            data: self.data.to_vec(),
+        }
+    }
+}

@@ -1,0 +1,40 @@
+//! # vizretarget
+//!
+//! Content-aware resizing of visualizations to any aspect ratio, after Li, Baciu, Wang and
+//! Zhang, *Fast content-aware resizing of multi-layer information visualization via adaptive
+//! triangulation*. A visual saliency map ([`Vsm`], §4) finds what matters; an adaptive Delaunay
+//! [`Mesh`] (§5.1) is dense there and sparse on empty background; a linear energy (§5.2) solved
+//! as one sparse system gives a [`Warp`] that keeps salient content in shape while empty space
+//! absorbs the change; the renderer draws the warped frame.
+//!
+//! ```
+//! use vizretarget::{retarget, Image, Options, Size};
+//! let img = Image::filled(Size::new(200, 100)?, [255, 255, 255, 255]);
+//! let out = retarget(&img, Size::new(100, 100)?, &Options::default())?;
+//! assert_eq!(out.image.size(), Size::new(100, 100)?);
+//! # Ok::<(), vizretarget::Error>(())
+//! ```
+//!
+//! The stages, in the order of the pipeline: [`saliency`], [`mesh`], [`solve`], [`render`].
+
+mod error;
+mod image;
+mod raster;
+mod retargeter;
+
+pub mod debug;
+pub mod io;
+pub mod mesh;
+pub mod render;
+pub mod saliency;
+pub mod solve;
+
+pub use error::Error;
+pub use image::{Image, ImageRef, Size, MAX_SIDE};
+pub use mesh::{Mesh, MeshOptions};
+pub use render::Renderer;
+pub use retargeter::{
+    retarget, Analysis, Frame, FrameStats, Options, Retargeted, Retargeter, StageTimes, Status,
+};
+pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
+pub use solve::{EnergyParams, SolveStats, Solver, Warp};

@@ -1,0 +1,226 @@
+//! The adaptive triangle mesh of §5.1: key points sampled by saliency level, Delaunay
+//! triangulated.
+//!
+//! * [`marks`]: small marks (a dot, a legend symbol, a short label) found as connected blobs;
+//!   each gets a ring of key points so it sits in triangles of its own, whatever the lattice;
+//! * [`sampling`]: the per-level lattices under the `α` budget (Eq. 7), corners and sides;
+//! * [`triangulate`]: Delaunay by `spade`, plus the topology the solver needs.
+
+mod marks;
+mod sampling;
+mod triangulate;
+
+pub use marks::Mark;
+pub use sampling::{KeyPoint, KeyPointKind};
+
+use crate::image::Size;
+use crate::raster::snap;
+use crate::saliency::Vsm;
+use glam::DVec2;
+
+/// Which boundary constraint of Eq. 10–11 holds for a vertex.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Boundary {
+    /// An interior vertex, free in x and y.
+    Interior,
+    /// On the left side: `x' = 0`, y free.
+    Left,
+    /// On the right side: `x' = w'`, y free.
+    Right,
+    /// On the top side: `y' = 0`, x free.
+    Top,
+    /// On the bottom side: `y' = h'`, x free.
+    Bottom,
+    /// A corner: fixed at the matching corner of the target.
+    Corner,
+}
+
+impl Boundary {
+    /// The constraint of a point of a `w × h` canvas.
+    pub fn of(p: DVec2, size: Size) -> Boundary {
+        let (w, h) = (size.width as f64, size.height as f64);
+        let on_x = p.x == 0.0 || p.x == w;
+        let on_y = p.y == 0.0 || p.y == h;
+        match (on_x, on_y) {
+            (true, true) => Boundary::Corner,
+            (true, false) if p.x == 0.0 => Boundary::Left,
+            (true, false) => Boundary::Right,
+            (false, true) if p.y == 0.0 => Boundary::Top,
+            (false, true) => Boundary::Bottom,
+            (false, false) => Boundary::Interior,
+        }
+    }
+
+    /// Whether x is fixed by the constraint.
+    pub fn fixes_x(self) -> bool {
+        matches!(self, Boundary::Left | Boundary::Right | Boundary::Corner)
+    }
+
+    /// Whether y is fixed by the constraint.
+    pub fn fixes_y(self) -> bool {
+        matches!(self, Boundary::Top | Boundary::Bottom | Boundary::Corner)
+    }
+}
+
+/// Options of mesh construction.
+#[derive(Clone, Debug)]
+pub struct MeshOptions {
+    /// The paper's `α`: the budget is `C_p = w·h/α²` key points.
+    pub alpha: f32,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        MeshOptions { alpha: 20.0 }
+    }
+}
+
+/// A triangle mesh over the source canvas `[0, w] × [0, h]` (pixel corners at integers).
+///
+/// # Guarantees
+/// Every triangle has positive signed area `(p1 − p0) × (p2 − p0) > 0` (counter-clockwise with
+/// y pointing down, i.e. clockwise on screen); the triangles tile the canvas; the four corners
+/// are vertices; every vertex on the border has the matching [`Boundary`].
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    size: Size,
+    vertices: Vec<DVec2>,
+    boundary: Vec<Boundary>,
+    triangles: Vec<[u32; 3]>,
+    /// `neighbours[t][i]`: the triangle across the edge opposite vertex `i`, or [`NONE`].
+    neighbours: Vec<[u32; 3]>,
+    marks: Vec<Mark>,
+}
+
+/// No neighbour (a border edge).
+pub const NONE: u32 = u32::MAX;
+
+impl Mesh {
+    /// Samples key points on `vsm` and triangulates them (§5.1).
+    pub fn build(vsm: &Vsm, options: &MeshOptions) -> Mesh {
+        let marks = marks::find_marks(vsm);
+        let points = sampling::sample_key_points(vsm, options.alpha, &marks);
+        Mesh::from_points(vsm.size(), points.iter().map(|k| k.pos), marks)
+    }
+
+    /// Triangulates given points; corners are added if missing, points outside the canvas are
+    /// clamped to it, and all are snapped to the renderer's fixed-point grid.
+    pub fn from_points(
+        size: Size,
+        points: impl IntoIterator<Item = DVec2>,
+        marks: Vec<Mark>,
+    ) -> Mesh {
+        let (w, h) = (size.width as f64, size.height as f64);
+        let mut pts: Vec<DVec2> = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(w, 0.0),
+            DVec2::new(0.0, h),
+            DVec2::new(w, h),
+        ];
+        pts.extend(
+            points
+                .into_iter()
+                .filter(|p| p.is_finite())
+                .map(|p| DVec2::new(snap(p.x.clamp(0.0, w)), snap(p.y.clamp(0.0, h)))),
+        );
+        let (vertices, triangles) = triangulate::delaunay(&pts);
+        let boundary = vertices.iter().map(|&p| Boundary::of(p, size)).collect();
+        let neighbours = triangulate::neighbours(&triangles, vertices.len());
+        Mesh {
+            size,
+            vertices,
+            boundary,
+            triangles,
+            neighbours,
+            marks,
+        }
+    }
+
+    /// A regular lattice mesh with cells of about `cell_px` (the grid baseline's topology).
+    pub fn lattice(size: Size, cell_px: f64) -> Mesh {
+        let (w, h) = (size.width as f64, size.height as f64);
+        let nx = (w / cell_px).round().max(1.0) as usize;
+        let ny = (h / cell_px).round().max(1.0) as usize;
+        let pts = (0..=ny).flat_map(|j| {
+            (0..=nx).map(move |i| DVec2::new(w * i as f64 / nx as f64, h * j as f64 / ny as f64))
+        });
+        Mesh::from_points(size, pts.collect::<Vec<_>>(), Vec::new())
+    }
+
+    /// The source canvas size.
+    pub fn size(&self) -> Size {
+        self.size
+    }
+    /// Vertex positions on the source canvas.
+    pub fn vertices(&self) -> &[DVec2] {
+        &self.vertices
+    }
+    /// Boundary constraint per vertex.
+    pub fn boundary(&self) -> &[Boundary] {
+        &self.boundary
+    }
+    /// Triangles as vertex indices, positively oriented.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+    /// Adjacent triangle across the edge opposite each vertex ([`NONE`] on the border).
+    pub fn neighbours(&self) -> &[[u32; 3]] {
+        &self.neighbours
+    }
+    /// The small marks the mesh was refined around.
+    pub fn marks(&self) -> &[Mark] {
+        &self.marks
+    }
+
+    /// Number of free vertex coordinates once the boundary constraints hold: the paper's DOF.
+    pub fn dof(&self) -> usize {
+        self.boundary
+            .iter()
+            .map(|b| (!b.fixes_x()) as usize + (!b.fixes_y()) as usize)
+            .sum()
+    }
+
+    /// Source positions of a triangle's corners.
+    pub fn triangle_points(&self, t: usize) -> [DVec2; 3] {
+        let [a, b, c] = self.triangles[t];
+        [
+            self.vertices[a as usize],
+            self.vertices[b as usize],
+            self.vertices[c as usize],
+        ]
+    }
+}
+
+/// Twice the signed area of a triangle: positive for the mesh's orientation.
+#[inline]
+pub fn cross2(p: [DVec2; 3]) -> f64 {
+    (p[1] - p[0]).perp_dot(p[2] - p[0])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_tiles_the_canvas() {
+        let size = Size::new(100, 60).unwrap();
+        let m = Mesh::lattice(size, 20.0);
+        let area: f64 = (0..m.triangles().len())
+            .map(|t| cross2(m.triangle_points(t)) / 2.0)
+            .sum();
+        assert!((area - 6000.0).abs() < 1e-6);
+        assert!((0..m.triangles().len()).all(|t| cross2(m.triangle_points(t)) > 0.0));
+        assert_eq!(
+            m.boundary()
+                .iter()
+                .filter(|&&b| b == Boundary::Corner)
+                .count(),
+            4
+        );
+        // 6×4 cells: 7×5 vertices, 2·(5+3) on sides minus... every border vertex is constrained.
+        for (p, b) in m.vertices().iter().zip(m.boundary()) {
+            let border = p.x == 0.0 || p.y == 0.0 || p.x == 100.0 || p.y == 60.0;
+            assert_eq!(border, *b != Boundary::Interior);
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! The sequential core: options, frames, and the retargeter that runs the stages in order.
+//!
+//! `send_frame` / `receive_frame` / `flush` follow rav1e's encoder API: the core is sequential
+//! and deterministic, and threaded pipelines wrap the same stage functions.
+
+use crate::error::Error;
+use crate::image::{Image, Size};
+use crate::mesh::{Mesh, MeshOptions};
+use crate::render::Renderer;
+use crate::saliency::{Vsm, VsmBuilder};
+use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// How to retarget. Plain data with defaults; checked once by [`Options::validate`].
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The paper's `α`: the mesh budget is `w·h/α²` key points. Smaller is finer and slower.
+    /// Allowed: 4 to 200; default 20.
+    pub alpha: f32,
+    /// Energy tuning (see [`EnergyParams`]).
+    pub energy: EnergyParams,
+    /// Keep the VSM, mesh and warp of each frame in [`Retargeted::analysis`] (for pictures and
+    /// metrics; costs memory).
+    pub keep_analysis: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            alpha: 20.0,
+            energy: EnergyParams::default(),
+            keep_analysis: false,
+        }
+    }
+}
+
+impl Options {
+    /// Sets `α`.
+    pub fn with_alpha(mut self, alpha: f32) -> Options {
+        self.alpha = alpha;
+        self
+    }
+
+    /// Keeps each frame's VSM, mesh and warp.
+    pub fn with_analysis(mut self, keep: bool) -> Options {
+        self.keep_analysis = keep;
+        self
+    }
+
+    /// Checks every option, naming the value and the allowed range.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(4.0..=200.0).contains(&self.alpha) {
+            return Err(Error::InvalidOptions(format!(
+                "alpha {} is out of range: allowed 4 to 200",
+                self.alpha
+            )));
+        }
+        let e = &self.energy;
+        let checks = [
+            ("weight_power", e.weight_power, 0.0, 16.0),
+            ("weight_floor", e.weight_floor, 1e-9, 1.0),
+            ("prior_threshold", e.prior_threshold, 0.0, 1.0),
+            ("prior_strength", e.prior_strength, 0.0, 1e6),
+            ("smoothing", e.smoothing, 0.0, 1e6),
+        ];
+        for (name, v, lo, hi) in checks {
+            if !(lo..=hi).contains(&v) {
+                return Err(Error::InvalidOptions(format!(
+                    "{name} {v} is out of range: allowed {lo} to {hi}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One input frame.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub image: Image,
+    /// Position in the stream, from 0.
+    pub frame_index: u64,
+    /// How long the frame is shown, in milliseconds, if the source says (GIF delays).
+    pub duration_ms: Option<u32>,
+}
+
+impl Frame {
+    pub fn new(image: Image, frame_index: u64) -> Frame {
+        Frame {
+            image,
+            frame_index,
+            duration_ms: None,
+        }
+    }
+}
+
+/// Milliseconds spent in each stage for one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    pub vsm_ms: f64,
+    pub mesh_ms: f64,
+    pub solve_ms: f64,
+    pub render_ms: f64,
+}
+
+impl StageTimes {
+    pub fn total_ms(&self) -> f64 {
+        self.vsm_ms + self.mesh_ms + self.solve_ms + self.render_ms
+    }
+}
+
+/// What happened to one frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    pub vertices: usize,
+    pub triangles: usize,
+    /// Free vertex coordinates (the paper's DOF).
+    pub dof: usize,
+    pub solve: SolveStats,
+    pub times: StageTimes,
+}
+
+/// The intermediate results of one frame, kept when [`Options::keep_analysis`] is set.
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    pub vsm: Arc<Vsm>,
+    pub mesh: Arc<Mesh>,
+    pub warp: Arc<Warp>,
+}
+
+/// One retargeted frame.
+#[derive(Clone, Debug)]
+pub struct Retargeted {
+    pub image: Image,
+    pub frame_index: u64,
+    pub duration_ms: Option<u32>,
+    pub stats: FrameStats,
+    pub analysis: Option<Analysis>,
+}
+
+/// Why [`Retargeter::receive_frame`] has no frame.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Send more frames.
+    NeedMoreData,
+    /// Flushed and drained: the stream is over.
+    Done,
+}
+
+/// Retargets frames to one target size, in order.
+pub struct Retargeter {
+    target: Size,
+    options: Options,
+    vsm: VsmBuilder,
+    solver: Solver,
+    renderer: Renderer,
+    ready: VecDeque<Retargeted>,
+    flushed: bool,
+}
+
+impl Retargeter {
+    /// A retargeter for `target` (checked: each side 1 to [`crate::MAX_SIDE`]).
+    pub fn new(target: Size, options: Options) -> Result<Retargeter, Error> {
+        Size::new(target.width, target.height)?;
+        options.validate()?;
+        Ok(Retargeter {
+            target,
+            solver: Solver::new(options.energy.clone()),
+            options,
+            vsm: VsmBuilder::new(),
+            renderer: Renderer::new(),
+            ready: VecDeque::new(),
+            flushed: false,
+        })
+    }
+
+    /// The target size.
+    pub fn target(&self) -> Size {
+        self.target
+    }
+
+    /// Processes a frame; its result is then available from [`Retargeter::receive_frame`].
+    pub fn send_frame(&mut self, frame: Frame) -> Result<(), Error> {
+        if self.flushed {
+            return Err(Error::InvalidOptions("send_frame after flush".into()));
+        }
+        let out = self.process(frame)?;
+        self.ready.push_back(out);
+        Ok(())
+    }
+
+    /// The next retargeted frame, in input order.
+    pub fn receive_frame(&mut self) -> Result<Retargeted, Status> {
+        match self.ready.pop_front() {
+            Some(f) => Ok(f),
+            None if self.flushed => Err(Status::Done),
+            None => Err(Status::NeedMoreData),
+        }
+    }
+
+    /// Ends the stream: frames still queued stay receivable, then `receive_frame` says `Done`.
+    pub fn flush(&mut self) {
+        self.flushed = true;
+    }
+
+    fn process(&mut self, frame: Frame) -> Result<Retargeted, Error> {
+        let mut times = StageTimes::default();
+        let t0 = Instant::now();
+        let vsm = self.vsm.build(frame.image.as_ref());
+        let t1 = Instant::now();
+        times.vsm_ms = ms(t0, t1);
+        let mesh = Mesh::build(
+            &vsm,
+            &MeshOptions {
+                alpha: self.options.alpha,
+            },
+        );
+        let t2 = Instant::now();
+        times.mesh_ms = ms(t1, t2);
+        let (warp, solve) = self.solver.solve(&mesh, &vsm, self.target)?;
+        let t3 = Instant::now();
+        times.solve_ms = ms(t2, t3);
+        let mut image = Image::new(self.target);
+        self.renderer
+            .render(frame.image.as_ref(), &mesh, &warp, &mut image);
+        times.render_ms = ms(t3, Instant::now());
+        let stats = FrameStats {
+            vertices: mesh.vertices().len(),
+            triangles: mesh.triangles().len(),
+            dof: mesh.dof(),
+            solve,
+            times,
+        };
+        let analysis = self.options.keep_analysis.then(|| Analysis {
+            vsm: Arc::new(vsm),
+            mesh: Arc::new(mesh),
+            warp: Arc::new(warp),
+        });
+        Ok(Retargeted {
+            image,
+            frame_index: frame.frame_index,
+            duration_ms: frame.duration_ms,
+            stats,
+            analysis,
+        })
+    }
+}
+
+fn ms(a: Instant, b: Instant) -> f64 {
+    (b - a).as_secs_f64() * 1000.0
+}
+
+/// Retargets one still image to `target`.
+pub fn retarget(image: &Image, target: Size, options: &Options) -> Result<Retargeted, Error> {
+    let mut r = Retargeter::new(target, options.clone())?;
+    r.send_frame(Frame::new(image.clone(), 0))?;
+    r.flush();
+    r.receive_frame().map_err(|_| Error::Aborted)
+}

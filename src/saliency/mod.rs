@@ -1,0 +1,246 @@
+//! The visual saliency map (VSM) of §4: `S_vsm = S_m + S_d + S_sec`, normalized to `[0, 1]`.
+//!
+//! * [`lab`]: the feature vector `[L, a, b, m]` (Lab plus the mid channel);
+//! * [`frequency_tuned`]: importance `S_m` (Eq. 1–2);
+//! * [`edges`]: Sobel and 7×7 dilation `S_d` (Eq. 3–4);
+//! * [`second_region`]: the second-peak regions `S_sec` (Eq. 5), the SSDC fix;
+//! * [`levels`]: the three saliency levels.
+//!
+//! Normalization. Each component is scaled to `[0, 1]` by its maximum before the sum, and the sum
+//! by its own maximum, as the paper says; but each divisor has a floor ([`IMPORTANCE_FLOOR`],
+//! [`EDGE_FLOOR`], 1 for the sum) so that a nearly uniform frame, whose largest difference is a
+//! barely visible ripple, is not stretched into full saliency.
+
+mod edges;
+mod frequency_tuned;
+mod lab;
+mod levels;
+mod second_region;
+
+pub use levels::SaliencyLevel;
+
+use crate::image::{ImageRef, Size};
+
+/// `S_m` divisor floor, in Lab units (ΔE 20: a clearly visible difference).
+const IMPORTANCE_FLOOR: f32 = 20.0;
+/// Sobel divisor floor: a step of ΔL = 25 (Sobel gain 4).
+const EDGE_FLOOR: f32 = 100.0;
+/// Dilation radius of Eq. 4 (a 7×7 square).
+pub const DILATION_RADIUS: usize = 3;
+
+/// A visual saliency map: one value in `[0, 1]` per pixel, plus the parts later stages use.
+#[derive(Clone, Debug)]
+pub struct Vsm {
+    size: Size,
+    values: Vec<f32>,
+    importance: Vec<f32>,
+    edges: Vec<f32>,
+}
+
+impl Vsm {
+    pub fn size(&self) -> Size {
+        self.size
+    }
+
+    /// `S_vsm`, row-major, each in `[0, 1]`.
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
+    /// Normalized importance `S_m` (Eq. 2), in `[0, 1]`.
+    pub fn importance(&self) -> &[f32] {
+        &self.importance
+    }
+
+    /// Normalized Sobel magnitude `S_e` before dilation (Eq. 3), in `[0, 1]`: where marks are,
+    /// not their 3-px context.
+    pub fn edges(&self) -> &[f32] {
+        &self.edges
+    }
+
+    /// Saliency at a pixel.
+    #[inline]
+    pub fn get(&self, x: u32, y: u32) -> f32 {
+        self.values[y as usize * self.size.width as usize + x as usize]
+    }
+
+    /// Saliency level at a pixel.
+    #[inline]
+    pub fn level(&self, x: u32, y: u32) -> SaliencyLevel {
+        SaliencyLevel::of(self.get(x, y))
+    }
+
+    /// A VSM from given values (clamped to `[0, 1]`), e.g. a user-painted map. Importance and
+    /// edges are taken equal to the values.
+    pub fn from_values(size: Size, values: Vec<f32>) -> Option<Vsm> {
+        if values.len() != size.area() {
+            return None;
+        }
+        let values: Vec<f32> = values.into_iter().map(|v| v.clamp(0.0, 1.0)).collect();
+        Some(Vsm {
+            size,
+            importance: values.clone(),
+            edges: values.clone(),
+            values,
+        })
+    }
+}
+
+/// Computes VSMs, keeping its scratch planes between frames.
+#[derive(Default)]
+pub struct VsmBuilder {
+    lab: lab::LabConverter,
+    features: lab::FeaturePlanes,
+    ft: frequency_tuned::Scratch,
+    tmp: Vec<f32>,
+    dilated: Vec<f32>,
+    lab_only: bool,
+}
+
+impl VsmBuilder {
+    pub fn new() -> VsmBuilder {
+        VsmBuilder::default()
+    }
+
+    /// A builder that drops the mid channel and uses Lab alone, as Achanta et al. did: only for
+    /// comparisons (it misses light layers, the paper's Fig. 4b).
+    pub fn lab_only() -> VsmBuilder {
+        VsmBuilder {
+            lab_only: true,
+            ..VsmBuilder::default()
+        }
+    }
+
+    /// The VSM of `image`. Deterministic: the same pixels give the same map.
+    pub fn build(&mut self, image: ImageRef<'_>) -> Vsm {
+        let size = image.size();
+        let (w, h) = (size.width as usize, size.height as usize);
+        self.lab.convert_all(image.pixels(), &mut self.features);
+        if self.lab_only {
+            self.features.m.fill(0.0);
+        }
+
+        let mut importance = Vec::with_capacity(w * h);
+        frequency_tuned::importance(&self.features, w, h, &mut self.ft, &mut importance);
+        normalize(&mut importance, IMPORTANCE_FLOOR);
+
+        let mut edges = Vec::with_capacity(w * h);
+        edges::sobel(&self.features.l, w, h, &mut edges);
+        normalize(&mut edges, EDGE_FLOOR);
+        edges::dilate(
+            &edges,
+            w,
+            h,
+            DILATION_RADIUS,
+            &mut self.tmp,
+            &mut self.dilated,
+        );
+
+        let boost = second_region::second_region_boost(&importance);
+        let mut values = Vec::with_capacity(w * h);
+        values.extend(
+            importance
+                .iter()
+                .zip(&self.dilated)
+                .map(|(&m, &d)| m + d + boost[second_region::bin_of(m)]),
+        );
+        normalize(&mut values, 1.0);
+        Vsm {
+            size,
+            values,
+            importance,
+            edges,
+        }
+    }
+}
+
+/// Divides by `max(max(v), floor)`.
+fn normalize(v: &mut [f32], floor: f32) {
+    let max = v.iter().copied().fold(0.0f32, f32::max).max(floor);
+    let inv = 1.0 / max;
+    for x in v.iter_mut() {
+        *x = (*x * inv).min(1.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Image;
+
+    fn disc_image(w: u32, h: u32, cx: f32, cy: f32, r: f32, fg: [u8; 4], bg: [u8; 4]) -> Image {
+        let mut img = Image::filled(Size::new(w, h).unwrap(), bg);
+        for y in 0..h {
+            for x in 0..w {
+                let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+                if dx * dx + dy * dy <= r * r {
+                    img.set(x, y, fg);
+                }
+            }
+        }
+        img
+    }
+
+    #[test]
+    fn saturated_disc_on_white_is_salient() {
+        let img = disc_image(80, 60, 40.0, 30.0, 8.0, [215, 25, 28, 255], [255; 4]);
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        assert_eq!(vsm.level(40, 30), SaliencyLevel::Salient);
+        assert!(vsm.get(40, 30) > 0.5);
+        // Far from the disc, the white background is not.
+        assert_eq!(vsm.level(5, 5), SaliencyLevel::Background);
+        assert!(vsm.get(75, 55) < 0.1);
+    }
+
+    #[test]
+    fn uniform_image_has_no_salient_pixels() {
+        for colour in [[255, 255, 255, 255], [30, 90, 200, 255], [0, 0, 0, 0]] {
+            let img = Image::filled(Size::new(64, 48).unwrap(), colour);
+            let vsm = VsmBuilder::new().build(img.as_ref());
+            assert!(vsm.values().iter().all(|&v| v == 0.0), "{colour:?}");
+        }
+    }
+
+    /// A light pastel region on white among saturated yellow marks (the paper's Fig. 4 case):
+    /// Lab weighs the marks' strong hue (b ≈ 80) against the region's small lightness
+    /// difference, so the region's importance stays at background level; the mid channel adds
+    /// the lightness difference once more and lifts it to the context level. The second-region
+    /// boost then keeps the whole flat region together in the VSM.
+    #[test]
+    fn pastel_region_is_found_with_the_mid_channel() {
+        let pastel = [253, 224, 221, 255];
+        let (w, h) = (200u32, 150u32);
+        let mut img = Image::filled(Size::new(w, h).unwrap(), [255; 4]);
+        for y in 20..67 {
+            for x in 40..103 {
+                img.set(x, y, pastel);
+            }
+        }
+        for (cx, cy) in [(10.0, 10.0), (190.0, 140.0), (10.0, 140.0), (190.0, 10.0)] {
+            for y in 0..h {
+                for x in 0..w {
+                    let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+                    if dx * dx + dy * dy <= 25.0 {
+                        img.set(x, y, [255, 215, 0, 255]);
+                    }
+                }
+            }
+        }
+        let with_m = VsmBuilder::new().build(img.as_ref());
+        let lab_only = VsmBuilder::lab_only().build(img.as_ref());
+        let i = (43 * w + 70) as usize;
+        let (a, b) = (lab_only.importance()[i], with_m.importance()[i]);
+        assert_eq!(
+            SaliencyLevel::of(a),
+            SaliencyLevel::Background,
+            "Lab alone: {a}"
+        );
+        assert_eq!(SaliencyLevel::of(b), SaliencyLevel::Context, "with m: {b}");
+        assert!(with_m.level(70, 43) >= SaliencyLevel::Context);
+        assert!(
+            with_m.get(150, 75) < 0.15,
+            "white background stays background"
+        );
+        assert_eq!(with_m.level(190, 140), SaliencyLevel::Salient);
+    }
+}

@@ -1,0 +1,35 @@
+//! Triangle saliency `λ_t` (Eq. 9): the mean VSM over the pixels of each source triangle, by the
+//! same exact scan conversion the renderer uses (every pixel counted once).
+
+use crate::mesh::Mesh;
+use crate::raster::{rasterize, FixedPoint};
+use crate::saliency::Vsm;
+
+/// `λ_t` for every triangle of `mesh`, into `out`. A triangle too small to hold a pixel centre
+/// takes the value at its centroid.
+pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, out: &mut Vec<f64>) {
+    let size = vsm.size();
+    let (w, h) = (size.width, size.height);
+    let values = vsm.values();
+    out.clear();
+    out.reserve(mesh.triangles().len());
+    for t in 0..mesh.triangles().len() {
+        let p = mesh.triangle_points(t);
+        let fp = p.map(|q| FixedPoint::from_f64(q.x, q.y));
+        let mut sum = 0.0f64;
+        let mut n = 0u32;
+        rasterize(fp, w, h, |y, x0, x1| {
+            let row = &values[y as usize * w as usize..][x0 as usize..x1 as usize];
+            sum += row.iter().map(|&v| v as f64).sum::<f64>();
+            n += x1 - x0;
+        });
+        if n == 0 {
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            let x = (c.x as u32).min(w - 1);
+            let y = (c.y as u32).min(h - 1);
+            out.push(vsm.get(x, y) as f64);
+        } else {
+            out.push(sum / n as f64);
+        }
+    }
+}
