@@ -41,30 +41,45 @@ pub fn cross(p: [FixedPoint; 3]) -> i64 {
     (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x)
 }
 
-/// First integer `x` with `k·x + c > 0` (`strict`) or `≥ 0`, or last-exclusive bound for `k < 0`.
+/// For `k·x + c > 0` (`strict`) or `≥ 0`: the first `x` that passes when `k > 0`, the end
+/// (exclusive) of the passing range when `k < 0`, as `(lo, hi)`.
+///
+/// The bound comes from a float division (an `i64` division costs tens of cycles and this runs
+/// three times per row of every triangle), then is corrected exactly with integer arithmetic.
 #[inline]
 fn bound(k: i64, c: i64, strict: bool) -> (i64, i64) {
+    let pass = |x: i64| {
+        let e = k * x + c;
+        e > 0 || (e == 0 && !strict)
+    };
+    if k == 0 {
+        return if pass(0) {
+            (i64::MIN, i64::MAX)
+        } else {
+            (0, 0)
+        };
+    }
+    // Clamp the estimate to a range where k·x cannot overflow (|x| ≤ 2^31 pixels).
+    let est = (-(c as f64) / k as f64).clamp(-2e9, 2e9);
+    let mut x = est.floor() as i64;
     if k > 0 {
-        // x > -c/k  or  x >= -c/k
-        let lo = if strict {
-            (-c).div_euclid(k) + 1
-        } else {
-            div_ceil(-c, k)
-        };
-        (lo, i64::MAX)
-    } else if k < 0 {
-        let kk = -k;
-        // x < c/kk  or  x <= c/kk
-        let hi = if strict {
-            div_ceil(c, kk)
-        } else {
-            c.div_euclid(kk) + 1
-        };
-        (i64::MIN, hi)
-    } else if c > 0 || (c == 0 && !strict) {
-        (i64::MIN, i64::MAX)
+        // Smallest passing x.
+        while pass(x - 1) {
+            x -= 1;
+        }
+        while !pass(x) {
+            x += 1;
+        }
+        (x, i64::MAX)
     } else {
-        (0, 0)
+        // First failing x after the passing range.
+        while !pass(x) {
+            x -= 1;
+        }
+        while pass(x + 1) {
+            x += 1;
+        }
+        (i64::MIN, x + 1)
     }
 }
 
@@ -180,6 +195,45 @@ mod tests {
         let mut n = 0;
         rasterize(t, 20, 20, |_, a, b| n += b - a);
         assert_eq!(n, 0);
+    }
+
+    /// The float-estimated bounds agree with exact integer ones.
+    #[test]
+    fn bounds_are_exact() {
+        let exact = |k: i64, c: i64, strict: bool| -> (i64, i64) {
+            let pass = |x: i64| {
+                let e = k * x + c;
+                e > 0 || (e == 0 && !strict)
+            };
+            if k > 0 {
+                ((-5000..5000).find(|&x| pass(x)).unwrap(), i64::MAX)
+            } else {
+                (
+                    i64::MIN,
+                    (-5000..5000).rev().find(|&x| pass(x)).unwrap() + 1,
+                )
+            }
+        };
+        let mut seed = 12345u64;
+        for _ in 0..20000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let k = ((seed % 20001) as i64 - 10000) * ONE / 64;
+            let x0 = ((seed >> 20) % 4000) as i64 - 2000;
+            let jitter = ((seed >> 40) % 7) as i64 - 3;
+            if k == 0 {
+                continue;
+            }
+            let c = -k * x0 + jitter;
+            for strict in [true, false] {
+                assert_eq!(
+                    bound(k, c, strict),
+                    exact(k, c, strict),
+                    "k {k} c {c} strict {strict}"
+                );
+            }
+        }
     }
 
     #[test]

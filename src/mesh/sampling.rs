@@ -42,7 +42,7 @@ pub struct KeyPoint {
 }
 
 /// Base interval of each level, in units of α.
-const BASE_INTERVAL: [f64; 3] = [3.0, 1.0, 0.5];
+const BASE_INTERVAL: [f64; 3] = [3.0, 2.0, 0.5];
 /// Smallest interval, px: below this triangles get thinner than the rendering resolution.
 const MIN_INTERVAL_PX: f64 = 4.0;
 /// Key points on each mark's ring.

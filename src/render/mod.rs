@@ -14,16 +14,23 @@ use crate::mesh::Mesh;
 use crate::raster::{rasterize, FixedPoint};
 use crate::solve::Warp;
 use glam::DVec2;
-use sample::Acc;
+use sample::Texels;
 
 /// Minification (source pixels per output pixel) from which a footprint is box-filtered.
 const BOX_FILTER_FROM: f64 = 1.25;
 /// Most taps along one axis of the footprint.
 const MAX_TAPS: usize = 8;
 
-/// Renders warps; holds nothing between frames yet but owns the stage's future scratch.
+/// Sources up to this many pixels get a pre-spread SWAR copy (8 bytes a pixel); larger ones
+/// spread texels on the fly.
+const LANE_TEXTURE_MAX_PX: usize = 1 << 24;
+
+/// Renders warps. Keeps its scratch (tap offsets, the SWAR copy of the source) between calls.
 #[derive(Default)]
-pub struct Renderer {}
+pub struct Renderer {
+    offsets: Vec<(f32, f32)>,
+    lanes: Vec<u64>,
+}
 
 impl Renderer {
     pub fn new() -> Renderer {
@@ -38,9 +45,21 @@ impl Renderer {
             *dst = Image::new(target);
         }
         let opaque = src.pixels().iter().all(|p| p[3] == 255);
+        self.lanes.clear();
+        if opaque && src.pixels().len() <= LANE_TEXTURE_MAX_PX {
+            self.lanes
+                .extend(src.pixels().iter().map(|&p| sample::lanes(p)));
+        }
+        let tex = Texels {
+            px: src.pixels(),
+            lanes: &self.lanes,
+            w: src.width() as i32,
+            h: src.height() as i32,
+        };
         let (tw, th) = (target.width, target.height);
         let twu = tw as usize;
         let out = dst.pixels_mut();
+        let offsets = &mut self.offsets;
         for (t, tri) in mesh.triangles().iter().enumerate() {
             let q: [DVec2; 3] = tri.map(|v| warp.positions()[v as usize]);
             let fq = q.map(|p| FixedPoint::from_f64(p.x, p.y));
@@ -67,42 +86,59 @@ impl Renderer {
             let col_y = DVec2::new(m[0][1], m[1][1]);
             let nx = taps(col_x.length());
             let ny = taps(col_y.length());
+            offsets.clear();
+            for j in 0..ny {
+                let oy = (j as f64 + 0.5) / ny as f64 - 0.5;
+                for i in 0..nx {
+                    let ox = (i as f64 + 0.5) / nx as f64 - 0.5;
+                    let o = col_x * ox + col_y * oy;
+                    offsets.push((o.x as f32, o.y as f32));
+                }
+            }
+            let n = offsets.len() as u32;
+            let offs = &offsets[..];
             let map = |x: f64, y: f64| -> DVec2 {
                 let d = DVec2::new(x, y) - q[0];
                 p[0] + DVec2::new(m[0][0] * d.x + m[0][1] * d.y, m[1][0] * d.x + m[1][1] * d.y)
             };
+            let (du, dv) = (col_x.x, col_x.y);
             rasterize(fq, tw, th, |y, x0, x1| {
-                let row = &mut out[y as usize * twu..][..twu];
+                let row = &mut out[y as usize * twu..][x0 as usize..x1 as usize];
                 let start = map(x0 as f64 + 0.5, y as f64 + 0.5);
-                let (mut u, mut v) = (start.x, start.y);
-                let (du, dv) = (col_x.x, col_x.y);
-                if nx == 1 && ny == 1 {
-                    for px in &mut row[x0 as usize..x1 as usize] {
-                        *px = if opaque {
-                            sample::bilinear_opaque(&src, u as f32, v as f32)
-                        } else {
-                            let mut acc = Acc::default();
-                            sample::bilinear_into(&src, u as f32, v as f32, 1.0, &mut acc);
-                            acc.to_rgba(1.0)
-                        };
-                        u += du;
-                        v += dv;
-                    }
-                } else {
-                    let inv_n = 1.0 / (nx * ny) as f32;
-                    for px in &mut row[x0 as usize..x1 as usize] {
-                        let mut acc = Acc::default();
-                        for j in 0..ny {
-                            let oy = (j as f64 + 0.5) / ny as f64 - 0.5;
-                            for i in 0..nx {
-                                let ox = (i as f64 + 0.5) / nx as f64 - 0.5;
-                                let s = DVec2::new(u, v) + col_x * ox + col_y * oy;
-                                sample::bilinear_into(&src, s.x as f32, s.y as f32, 1.0, &mut acc);
-                            }
+                // f32 stepping along one span (≤ a triangle wide) drifts by well under 0.01 px.
+                let (mut u, mut v) = (start.x as f32, start.y as f32);
+                let (du, dv) = (du as f32, dv as f32);
+                match (opaque, n) {
+                    (true, 1) => {
+                        for px in row.iter_mut() {
+                            *px = sample::finish_one(tex.bilinear_lanes(u, v));
+                            u += du;
+                            v += dv;
                         }
-                        *px = acc.to_rgba(inv_n);
-                        u += du;
-                        v += dv;
+                    }
+                    (true, _) => {
+                        let inv = 1.0 / (4096.0 * n as f32);
+                        for px in row.iter_mut() {
+                            let mut sum = [0u32; 3];
+                            for &(ou, ov) in offs {
+                                let s = sample::unpack(tex.bilinear_lanes(u + ou, v + ov));
+                                sum = [sum[0] + s[0], sum[1] + s[1], sum[2] + s[2]];
+                            }
+                            *px = sample::finish_sum(sum, inv);
+                            u += du;
+                            v += dv;
+                        }
+                    }
+                    (false, _) => {
+                        for px in row.iter_mut() {
+                            let mut acc = [0f32; 4];
+                            for &(ou, ov) in offs {
+                                tex.bilinear_premul(u + ou, v + ov, &mut acc);
+                            }
+                            *px = sample::finish_premul(acc, n);
+                            u += du;
+                            v += dv;
+                        }
                     }
                 }
             });

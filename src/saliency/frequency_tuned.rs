@@ -5,66 +5,75 @@
 //! blur (`¼[1,2,1]` separable) for `G(ε)`. The blur is the only smoothing: visualizations are
 //! sharp, so the paper skips denoising.
 
-use super::lab::FeaturePlanes;
-
-/// Horizontal then vertical `¼[1,2,1]` of one plane into `out`, clamping at the borders.
-/// `tmp` holds the horizontal pass.
-fn blur3(src: &[f32], w: usize, h: usize, tmp: &mut Vec<f32>, out: &mut Vec<f32>) {
-    tmp.clear();
-    tmp.resize(w * h, 0.0);
-    out.clear();
-    out.resize(w * h, 0.0);
-    for (srow, trow) in src.chunks_exact(w).zip(tmp.chunks_exact_mut(w)) {
-        if w == 1 {
-            trow[0] = srow[0];
-            continue;
-        }
-        trow[0] = 0.75 * srow[0] + 0.25 * srow[1];
-        for x in 1..w - 1 {
-            trow[x] = 0.25 * (srow[x - 1] + srow[x + 1]) + 0.5 * srow[x];
-        }
-        trow[w - 1] = 0.75 * srow[w - 1] + 0.25 * srow[w - 2];
+/// Horizontal `¼[1,2,1]` of one row, borders clamped.
+#[inline]
+fn hblur(src: &[f32], dst: &mut [f32]) {
+    let w = src.len();
+    if w == 1 {
+        dst[0] = src[0];
+        return;
     }
-    for y in 0..h {
-        let up = &tmp[y.saturating_sub(1) * w..][..w];
-        let mid = &tmp[y * w..][..w];
-        let down = &tmp[(y + 1).min(h - 1) * w..][..w];
-        let orow = &mut out[y * w..][..w];
-        for x in 0..w {
-            orow[x] = 0.25 * (up[x] + down[x]) + 0.5 * mid[x];
-        }
+    dst[0] = 0.75 * src[0] + 0.25 * src[1];
+    dst[w - 1] = 0.75 * src[w - 1] + 0.25 * src[w - 2];
+    let n = w - 2;
+    let (l, c, r) = (&src[..n], &src[1..n + 1], &src[2..]);
+    for (i, o) in dst[1..n + 1].iter_mut().enumerate() {
+        *o = 0.25 * (l[i] + r[i]) + 0.5 * c[i];
     }
 }
 
-/// Scratch for [`importance`].
-#[derive(Default)]
-pub(crate) struct Scratch {
-    tmp: Vec<f32>,
-    blurred: Vec<f32>,
-}
-
-/// Writes unnormalized `S_m` (in Lab units) into `out`.
+/// Writes unnormalized `S_m` (Lab units) of the feature planes `[L, a, b, m]` into `out`;
+/// returns the largest value. `ring` is scratch.
+///
+/// Row by row over planes (a ring of three horizontally blurred rows per channel), so that
+/// every inner loop runs over contiguous `f32`s and vectorizes, and the working set stays in
+/// cache.
 pub(crate) fn importance(
-    f: &FeaturePlanes,
+    planes: &[Vec<f32>; 4],
     w: usize,
     h: usize,
-    scratch: &mut Scratch,
+    mean: [f32; 4],
+    ring: &mut Vec<f32>,
     out: &mut Vec<f32>,
-) {
-    let n = w * h;
-    out.clear();
-    out.resize(n, 0.0);
-    for plane in [&f.l, &f.a, &f.b, &f.m] {
-        let mean = (plane.iter().map(|&v| v as f64).sum::<f64>() / n as f64) as f32;
-        blur3(plane, w, h, &mut scratch.tmp, &mut scratch.blurred);
-        for (o, &b) in out.iter_mut().zip(&scratch.blurred) {
-            let d = mean - b;
-            *o += d * d;
+) -> f32 {
+    out.resize(w * h, 0.0);
+    ring.resize(4 * 3 * w, 0.0);
+    let slot = |c: usize, r: usize| (c * 3 + r % 3) * w;
+    for (c, plane) in planes.iter().enumerate() {
+        for r in 0..2.min(h) {
+            let s = slot(c, r);
+            hblur(&plane[r * w..][..w], &mut ring[s..s + w]);
         }
     }
-    for o in out.iter_mut() {
-        *o = o.sqrt();
+    let mut max = 0f32;
+    for y in 0..h {
+        if y >= 1 && y + 1 < h {
+            for (c, plane) in planes.iter().enumerate() {
+                let s = slot(c, y + 1);
+                hblur(&plane[(y + 1) * w..][..w], &mut ring[s..s + w]);
+            }
+        }
+        let (ru, rm, rd) = (y.saturating_sub(1), y, (y + 1).min(h - 1));
+        let orow = &mut out[y * w..][..w];
+        orow.fill(0.0);
+        for c in 0..4 {
+            let (up, mid, down) = (
+                &ring[slot(c, ru)..][..w],
+                &ring[slot(c, rm)..][..w],
+                &ring[slot(c, rd)..][..w],
+            );
+            let m = mean[c];
+            for i in 0..w {
+                let d = m - (0.25 * (up[i] + down[i]) + 0.5 * mid[i]);
+                orow[i] += d * d;
+            }
+        }
+        for o in orow.iter_mut() {
+            *o = o.sqrt();
+            max = max.max(*o);
+        }
     }
+    max
 }
 
 #[cfg(test)]
@@ -72,16 +81,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn blur_keeps_constants_and_sums() {
+    fn constant_image_has_zero_importance_and_impulse_spreads_binomially() {
         let (w, h) = (7, 5);
-        let src = vec![3.0f32; w * h];
+        let planes = [3.0f32, 1.0, 2.0, 4.0].map(|v| vec![v; w * h]);
         let (mut t, mut o) = (Vec::new(), Vec::new());
-        blur3(&src, w, h, &mut t, &mut o);
-        assert!(o.iter().all(|&v| (v - 3.0).abs() < 1e-6));
-        // An impulse spreads as the binomial kernel: centre 1/4, edge neighbours 1/8.
-        let mut src = vec![0.0f32; w * h];
-        src[2 * w + 3] = 16.0;
-        blur3(&src, w, h, &mut t, &mut o);
+        let max = importance(&planes, w, h, [3.0, 1.0, 2.0, 4.0], &mut t, &mut o);
+        assert_eq!(max, 0.0);
+        // An impulse in L spreads as the binomial kernel: centre 1/4, edge neighbours 1/8.
+        let mut planes: [Vec<f32>; 4] = Default::default();
+        for p in planes.iter_mut() {
+            p.resize(w * h, 0.0);
+        }
+        planes[0][2 * w + 3] = 16.0;
+        importance(&planes, w, h, [0.0; 4], &mut t, &mut o);
         assert_eq!(o[2 * w + 3], 4.0);
         assert_eq!(o[2 * w + 2], 2.0);
         assert_eq!(o[w + 2], 1.0);

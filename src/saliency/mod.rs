@@ -90,8 +90,8 @@ impl Vsm {
 #[derive(Default)]
 pub struct VsmBuilder {
     lab: lab::LabConverter,
-    features: lab::FeaturePlanes,
-    ft: frequency_tuned::Scratch,
+    features: [Vec<f32>; 4],
+    ring: Vec<f32>,
     tmp: Vec<f32>,
     dilated: Vec<f32>,
     lab_only: bool,
@@ -113,22 +113,46 @@ impl VsmBuilder {
 
     /// The VSM of `image`. Deterministic: the same pixels give the same map.
     pub fn build(&mut self, image: ImageRef<'_>) -> Vsm {
+        let mut vsm = Vsm {
+            size: image.size(),
+            values: Vec::new(),
+            importance: Vec::new(),
+            edges: Vec::new(),
+        };
+        self.build_into(image, &mut vsm);
+        vsm
+    }
+
+    /// Like [`VsmBuilder::build`], reusing the planes of `vsm` (no allocation once warm).
+    pub fn build_into(&mut self, image: ImageRef<'_>, vsm: &mut Vsm) {
         let size = image.size();
         let (w, h) = (size.width as usize, size.height as usize);
-        self.lab.convert_all(image.pixels(), &mut self.features);
+        let n = (w * h) as f64;
+        let sum = self.lab.convert_all(image.pixels(), &mut self.features);
         if self.lab_only {
-            self.features.m.fill(0.0);
+            self.features[3].fill(0.0);
         }
+        let mean = [0, 1, 2, 3].map(|k| {
+            if self.lab_only && k == 3 {
+                0.0
+            } else {
+                (sum[k] / n) as f32
+            }
+        });
 
-        let mut importance = Vec::with_capacity(w * h);
-        frequency_tuned::importance(&self.features, w, h, &mut self.ft, &mut importance);
-        normalize(&mut importance, IMPORTANCE_FLOOR);
-
-        let mut edges = Vec::with_capacity(w * h);
-        edges::sobel(&self.features.l, w, h, &mut edges);
-        normalize(&mut edges, EDGE_FLOOR);
+        let imp_max = frequency_tuned::importance(
+            &self.features,
+            w,
+            h,
+            mean,
+            &mut self.ring,
+            &mut vsm.importance,
+        );
+        scale(&mut vsm.importance, imp_max.max(IMPORTANCE_FLOOR));
+        let edge_max = edges::sobel(&self.features[0], w, h, &mut vsm.edges);
+        scale(&mut vsm.edges, edge_max.max(EDGE_FLOOR));
         edges::dilate(
-            &edges,
+            &vsm.edges,
             w,
             h,
             DILATION_RADIUS,
@@ -136,28 +160,26 @@ impl VsmBuilder {
             &mut self.dilated,
         );
 
-        let boost = second_region::second_region_boost(&importance);
-        let mut values = Vec::with_capacity(w * h);
-        values.extend(
-            importance
-                .iter()
-                .zip(&self.dilated)
-                .map(|(&m, &d)| m + d + boost[second_region::bin_of(m)]),
-        );
-        normalize(&mut values, 1.0);
-        Vsm {
-            size,
-            values,
-            importance,
-            edges,
+        let boost = second_region::second_region_boost(&vsm.importance);
+        vsm.values.resize(w * h, 0.0);
+        let mut max = 0f32;
+        for ((v, &m), &d) in vsm
+            .values
+            .iter_mut()
+            .zip(&vsm.importance)
+            .zip(&self.dilated)
+        {
+            *v = m + d + boost[second_region::bin_of(m)];
+            max = max.max(*v);
         }
+        scale(&mut vsm.values, max.max(1.0));
+        vsm.size = size;
     }
 }
 
-/// Divides by `max(max(v), floor)`.
-fn normalize(v: &mut [f32], floor: f32) {
-    let max = v.iter().copied().fold(0.0f32, f32::max).max(floor);
-    let inv = 1.0 / max;
+/// Divides by `divisor` (at least the largest value), clamping to 1 against rounding.
+fn scale(v: &mut [f32], divisor: f32) {
+    let inv = 1.0 / divisor;
     for x in v.iter_mut() {
         *x = (*x * inv).min(1.0);
     }

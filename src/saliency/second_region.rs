@@ -52,7 +52,8 @@ pub(crate) fn second_region_boost(s_m: &[f32]) -> [f32; BINS] {
 
 #[inline]
 pub(crate) fn bin_of(v: f32) -> usize {
-    ((v * BINS as f32) as usize).min(BINS - 1)
+    // v is in [0, 1]; the u32 conversion saturates (NaN gives 0).
+    ((v * (BINS as f32 - 0.001)) as u32 as usize).min(BINS - 1)
 }
 
 #[cfg(test)]
