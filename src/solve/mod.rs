@@ -10,6 +10,7 @@
 mod boundary;
 mod cholesky;
 mod energy;
+mod fit;
 mod repair;
 mod weights;
 
@@ -100,6 +101,8 @@ pub struct SolveStats {
     pub blend: f64,
     /// Whether the blend had to be global.
     pub blend_global: bool,
+    /// The scale the size prior asked of salient content (1 unless it could not fit).
+    pub salient_scale: f64,
 }
 
 /// Solves the energy for meshes, keeping the symbolic factorization while the topology holds.
@@ -118,7 +121,7 @@ pub struct Solver {
 }
 
 /// Re-solves with tripled weights on folded triangles, at most this many times.
-const REPAIR_ROUNDS: usize = 3;
+const REPAIR_ROUNDS: usize = 8;
 const REPAIR_FACTOR: f64 = 3.0;
 
 impl Solver {
@@ -147,8 +150,11 @@ impl Solver {
         target: Size,
     ) -> Result<(Warp, SolveStats), Error> {
         weights::triangle_saliency(mesh, vsm, &mut self.lambda);
-        let delta = vec![1.0; mesh.triangles().len()];
-        self.solve_with(mesh, target, &delta)
+        let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
+        let delta = vec![fit; mesh.triangles().len()];
+        let (warp, mut stats) = self.solve_with(mesh, target, &delta)?;
+        stats.salient_scale = fit;
+        Ok((warp, stats))
     }
 
     /// Solves with the current `λ_t` and per-triangle target scales `delta` (Eq. 13).
@@ -410,7 +416,10 @@ mod tests {
         for t in 0..mesh.triangles().len() {
             let p = mesh.triangle_points(t);
             let q = mesh.triangles()[t].map(|v| warp.positions()[v as usize]);
-            let (a0, a1) = ((p[1] - p[0]).perp_dot(p[2] - p[0]), (q[1] - q[0]).perp_dot(q[2] - q[0]));
+            let (a0, a1) = (
+                (p[1] - p[0]).perp_dot(p[2] - p[0]),
+                (q[1] - q[0]).perp_dot(q[2] - q[0]),
+            );
             let class = if lambda[t] > 0.5 {
                 &mut sal
             } else if lambda[t] < 0.05 {
