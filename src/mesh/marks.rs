@@ -138,9 +138,8 @@ fn merge_overlapping(mut blobs: Vec<Mark>) -> Vec<Mark> {
             return blobs;
         }
         let mut groups: Vec<Option<Mark>> = vec![None; blobs.len()];
-        for i in 0..blobs.len() {
+        for (i, &b) in blobs.iter().enumerate() {
             let r = find(&mut parent, i);
-            let b = blobs[i];
             groups[r] = Some(match groups[r] {
                 None => b,
                 Some(g) => {

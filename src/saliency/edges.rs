@@ -37,7 +37,7 @@ pub(crate) fn sobel(l: &[f32], w: usize, h: usize, out: &mut Vec<f32>) -> f32 {
             }
         }
     }
-    out.iter().copied().fold(0.0, f32::max)
+    super::max_of(out)
 }
 
 /// Square max filter of radius `r` (a `(2r+1)²` window) of non-negative values, into `out`.
@@ -65,10 +65,14 @@ pub(crate) fn dilate(
             pad[r..r + w].copy_from_slice(srow);
             let len = w + 2 * r;
             for i in 0..len {
-                m2[i] = pad[i].max(pad[i + 1]);
+                m2[i] = if pad[i] > pad[i + 1] {
+                    pad[i]
+                } else {
+                    pad[i + 1]
+                };
             }
             for i in 0..len {
-                m4[i] = m2[i].max(m2[i + 2]);
+                m4[i] = if m2[i] > m2[i + 2] { m2[i] } else { m2[i + 2] };
             }
             // Window [x, x + n) in padded coordinates = output x.
             let off = n.saturating_sub(4);
@@ -82,10 +86,10 @@ pub(crate) fn dilate(
         }
     } else {
         for (srow, trow) in src.chunks_exact(w).zip(tmp.chunks_exact_mut(w)) {
-            for x in 0..w {
+            for (x, t) in trow.iter_mut().enumerate() {
                 let lo = x.saturating_sub(r);
                 let hi = (x + r).min(w - 1);
-                trow[x] = srow[lo..=hi].iter().copied().fold(0.0, f32::max);
+                *t = srow[lo..=hi].iter().copied().fold(0.0, f32::max);
             }
         }
     }
@@ -96,7 +100,7 @@ pub(crate) fn dilate(
         orow.copy_from_slice(&tmp[lo * w..][..w]);
         for yy in lo + 1..=hi {
             for (o, &t) in orow.iter_mut().zip(&tmp[yy * w..][..w]) {
-                *o = o.max(t);
+                *o = if t > *o { t } else { *o };
             }
         }
     }

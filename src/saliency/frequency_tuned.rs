@@ -70,8 +70,8 @@ pub(crate) fn importance(
         }
         for o in orow.iter_mut() {
             *o = o.sqrt();
-            max = max.max(*o);
         }
+        max = max.max(super::max_of(orow));
     }
     max
 }

@@ -177,6 +177,24 @@ impl VsmBuilder {
     }
 }
 
+/// The largest value (0 for an empty or all-negative slice), in a form that vectorizes:
+/// eight running maxima by comparison, no NaN handling (VSM values are never NaN).
+pub(crate) fn max_of(v: &[f32]) -> f32 {
+    let mut m = [0f32; 8];
+    let chunks = v.chunks_exact(8);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for k in 0..8 {
+            m[k] = if c[k] > m[k] { c[k] } else { m[k] };
+        }
+    }
+    let mut best = 0f32;
+    for &x in m.iter().chain(rest) {
+        best = if x > best { x } else { best };
+    }
+    best
+}
+
 /// Divides by `divisor` (at least the largest value), clamping to 1 against rounding.
 fn scale(v: &mut [f32], divisor: f32) {
     let inv = 1.0 / divisor;

@@ -105,6 +105,9 @@ pub(crate) fn weight(p: &EnergyParams, lambda: f64) -> f64 {
 
 /// Walks every entry of `H` in a fixed order (that depends on the topology and layout only),
 /// calling `entry(i, j, v)` with `i ≤ j`, and adds the right-hand side into `rhs`.
+// Local corner indices j, k address several per-triangle arrays at once: index loops read
+// closest to the formulas.
+#[allow(clippy::needless_range_loop)]
 pub(crate) fn assemble(
     mesh: &Mesh,
     layout: &Layout,
@@ -116,10 +119,12 @@ pub(crate) fn assemble(
 ) {
     rhs.fill(0.0);
     let tris = mesh.triangles();
-    let mut w = vec![0.0; tris.len()];
-    for t in 0..tris.len() {
-        w[t] = weight(params, terms.lambda[t]) * terms.boost[t];
-    }
+    let w: Vec<f64> = terms
+        .lambda
+        .iter()
+        .zip(terms.boost)
+        .map(|(&l, &b)| weight(params, l) * b)
+        .collect();
     for (t, tri) in tris.iter().enumerate() {
         let g = &geom[t];
         let c = g.area * w[t];

@@ -180,6 +180,6 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         let s = salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4);
-        assert!(s < 0.7 && s >= 0.5, "{s}");
+        assert!((0.5..0.7).contains(&s), "{s}");
     }
 }

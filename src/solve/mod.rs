@@ -413,9 +413,9 @@ mod tests {
         let lambda = solver.triangle_saliency().to_vec();
         // Area-weighted ratios of deformed to source area, per class of triangle.
         let (mut sal, mut bg) = ([0.0, 0.0], [0.0, 0.0]);
-        for t in 0..mesh.triangles().len() {
+        for (t, tri) in mesh.triangles().iter().enumerate() {
             let p = mesh.triangle_points(t);
-            let q = mesh.triangles()[t].map(|v| warp.positions()[v as usize]);
+            let q = tri.map(|v| warp.positions()[v as usize]);
             let (a0, a1) = (
                 (p[1] - p[0]).perp_dot(p[2] - p[0]),
                 (q[1] - q[0]).perp_dot(q[2] - q[0]),
