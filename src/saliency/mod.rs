@@ -18,6 +18,7 @@ mod levels;
 mod second_region;
 
 pub use levels::SaliencyLevel;
+pub use second_region::BINS as HISTOGRAM_BINS;
 
 use crate::image::{ImageRef, Size};
 
@@ -28,6 +29,23 @@ const EDGE_FLOOR: f32 = 100.0;
 /// Dilation radius of Eq. 4 (a 7×7 square).
 pub const DILATION_RADIUS: usize = 3;
 
+/// The frame-wide constants a VSM was normalized with. A region of a later frame computed with
+/// the same constants ([`VsmBuilder::update_region`]) matches the rest of the map exactly, which
+/// is what lets a stream recompute only where pixels changed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VsmNorm {
+    /// Mean feature `[L, a, b, m]` (the `G(∞)` of Eq. 2).
+    pub mean: [f32; 4],
+    /// Divisor of `S_m`.
+    pub importance_div: f32,
+    /// Divisor of the Sobel magnitude.
+    pub edge_div: f32,
+    /// `S_sec` per histogram bin of the normalized importance (Eq. 5).
+    pub boost: [f32; second_region::BINS],
+    /// Divisor of the sum.
+    pub final_div: f32,
+}
+
 /// A visual saliency map: one value in `[0, 1]` per pixel, plus the parts later stages use.
 #[derive(Clone, Debug)]
 pub struct Vsm {
@@ -35,6 +53,7 @@ pub struct Vsm {
     values: Vec<f32>,
     importance: Vec<f32>,
     edges: Vec<f32>,
+    norm: Option<Box<VsmNorm>>,
 }
 
 impl Vsm {
@@ -56,6 +75,11 @@ impl Vsm {
     /// not their 3-px context.
     pub fn edges(&self) -> &[f32] {
         &self.edges
+    }
+
+    /// The constants this map was normalized with (`None` for a map given as values).
+    pub fn norm(&self) -> Option<&VsmNorm> {
+        self.norm.as_deref()
     }
 
     /// Saliency at a pixel.
@@ -82,7 +106,38 @@ impl Vsm {
             importance: values.clone(),
             edges: values.clone(),
             values,
+            norm: None,
         })
+    }
+}
+
+/// A pixel rectangle `[x0, x1) × [y0, y1)`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Rect {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+impl Rect {
+    pub fn width(&self) -> u32 {
+        self.x1.saturating_sub(self.x0)
+    }
+    pub fn height(&self) -> u32 {
+        self.y1.saturating_sub(self.y0)
+    }
+    pub fn is_empty(&self) -> bool {
+        self.width() == 0 || self.height() == 0
+    }
+    /// Grown by `m` on every side, clipped to `size`.
+    pub fn grow(&self, m: u32, size: Size) -> Rect {
+        Rect {
+            x0: self.x0.saturating_sub(m),
+            y0: self.y0.saturating_sub(m),
+            x1: (self.x1 + m).min(size.width),
+            y1: (self.y1 + m).min(size.height),
+        }
     }
 }
 
@@ -94,6 +149,7 @@ pub struct VsmBuilder {
     ring: Vec<f32>,
     tmp: Vec<f32>,
     dilated: Vec<f32>,
+    crop: Vec<[u8; 4]>,
     lab_only: bool,
 }
 
@@ -118,6 +174,7 @@ impl VsmBuilder {
             values: Vec::new(),
             importance: Vec::new(),
             edges: Vec::new(),
+            norm: None,
         };
         self.build_into(image, &mut vsm);
         vsm
@@ -126,33 +183,107 @@ impl VsmBuilder {
     /// Like [`VsmBuilder::build`], reusing the planes of `vsm` (no allocation once warm).
     pub fn build_into(&mut self, image: ImageRef<'_>, vsm: &mut Vsm) {
         let size = image.size();
+        let n = size.area();
+        for p in [&mut vsm.values, &mut vsm.importance, &mut vsm.edges] {
+            p.resize(n, 0.0);
+        }
+        let norm = self.run(
+            image,
+            None,
+            &mut vsm.values,
+            &mut vsm.importance,
+            &mut vsm.edges,
+        );
+        vsm.size = size;
+        vsm.norm = Some(Box::new(norm));
+    }
+
+    /// Recomputes `vsm` inside `rect` from `image` (a later frame of the same size), with the
+    /// constants `vsm` was built with: the result inside `rect` equals what a full build with
+    /// those constants would give. Maps without constants, or of another size, are rebuilt.
+    pub fn update_region(&mut self, image: ImageRef<'_>, vsm: &mut Vsm, rect: Rect) {
+        let size = image.size();
+        let Some(norm) = vsm.norm.clone().filter(|_| vsm.size == size) else {
+            self.build_into(image, vsm);
+            return;
+        };
+        let rect = Rect {
+            x0: rect.x0.min(size.width),
+            y0: rect.y0.min(size.height),
+            x1: rect.x1.min(size.width),
+            y1: rect.y1.min(size.height),
+        };
+        if rect.is_empty() {
+            return;
+        }
+        // Blur and Sobel reach 1 px, the dilation 3 more: a margin of 5 makes the inner rect
+        // independent of the crop's borders.
+        let outer = rect.grow(DILATION_RADIUS as u32 + 2, size);
+        let (ow, oh) = (outer.width() as usize, outer.height() as usize);
+        let mut crop = std::mem::take(&mut self.crop);
+        crop.clear();
+        for row in image.rows().skip(outer.y0 as usize).take(oh) {
+            crop.extend_from_slice(&row[outer.x0 as usize..outer.x1 as usize]);
+        }
+        let csize = Size {
+            width: ow as u32,
+            height: oh as u32,
+        };
+        let cref = ImageRef::new(csize, &crop).expect("crop size");
+        let (mut v, mut i, mut e) = (Vec::new(), Vec::new(), Vec::new());
+        for p in [&mut v, &mut i, &mut e] {
+            p.resize(ow * oh, 0.0);
+        }
+        self.run(cref, Some(&norm), &mut v, &mut i, &mut e);
+        let w = size.width as usize;
+        for y in rect.y0..rect.y1 {
+            let cy = (y - outer.y0) as usize;
+            let (cx0, cx1) = ((rect.x0 - outer.x0) as usize, (rect.x1 - outer.x0) as usize);
+            let dst = y as usize * w;
+            let (d0, d1) = (dst + rect.x0 as usize, dst + rect.x1 as usize);
+            vsm.values[d0..d1].copy_from_slice(&v[cy * ow + cx0..cy * ow + cx1]);
+            vsm.importance[d0..d1].copy_from_slice(&i[cy * ow + cx0..cy * ow + cx1]);
+            vsm.edges[d0..d1].copy_from_slice(&e[cy * ow + cx0..cy * ow + cx1]);
+        }
+        self.crop = crop;
+    }
+
+    /// The whole computation on `image` into the three planes (already sized); with `norm`
+    /// given, its constants are used instead of this image's own. Returns the constants used.
+    fn run(
+        &mut self,
+        image: ImageRef<'_>,
+        norm: Option<&VsmNorm>,
+        values: &mut Vec<f32>,
+        importance: &mut Vec<f32>,
+        edges: &mut Vec<f32>,
+    ) -> VsmNorm {
+        let size = image.size();
         let (w, h) = (size.width as usize, size.height as usize);
         let n = (w * h) as f64;
         let sum = self.lab.convert_all(image.pixels(), &mut self.features);
         if self.lab_only {
             self.features[3].fill(0.0);
         }
-        let mean = [0, 1, 2, 3].map(|k| {
-            if self.lab_only && k == 3 {
-                0.0
-            } else {
-                (sum[k] / n) as f32
-            }
-        });
-
-        let imp_max = frequency_tuned::importance(
-            &self.features,
-            w,
-            h,
-            mean,
-            &mut self.ring,
-            &mut vsm.importance,
-        );
-        scale(&mut vsm.importance, imp_max.max(IMPORTANCE_FLOOR));
-        let edge_max = edges::sobel(&self.features[0], w, h, &mut vsm.edges);
-        scale(&mut vsm.edges, edge_max.max(EDGE_FLOOR));
+        let mean = match norm {
+            Some(nm) => nm.mean,
+            None => [0, 1, 2, 3].map(|k| {
+                if self.lab_only && k == 3 {
+                    0.0
+                } else {
+                    (sum[k] / n) as f32
+                }
+            }),
+        };
+        let imp_max =
+            frequency_tuned::importance(&self.features, w, h, mean, &mut self.ring, importance);
+        let importance_div = norm.map_or(imp_max.max(IMPORTANCE_FLOOR), |nm| nm.importance_div);
+        scale(importance, importance_div);
+        let edge_max = edges::sobel(&self.features[0], w, h, edges);
+        let edge_div = norm.map_or(edge_max.max(EDGE_FLOOR), |nm| nm.edge_div);
+        scale(edges, edge_div);
         edges::dilate(
-            &vsm.edges,
+            edges,
             w,
             h,
             DILATION_RADIUS,
@@ -160,20 +291,22 @@ impl VsmBuilder {
             &mut self.dilated,
         );
 
-        let boost = second_region::second_region_boost(&vsm.importance);
-        vsm.values.resize(w * h, 0.0);
-        let mut max = 0f32;
-        for ((v, &m), &d) in vsm
-            .values
-            .iter_mut()
-            .zip(&vsm.importance)
-            .zip(&self.dilated)
-        {
+        let boost = match norm {
+            Some(nm) => nm.boost,
+            None => second_region::second_region_boost(importance),
+        };
+        for ((v, &m), &d) in values.iter_mut().zip(importance.iter()).zip(&self.dilated) {
             *v = m + d + boost[second_region::bin_of(m)];
-            max = max.max(*v);
         }
-        scale(&mut vsm.values, max.max(1.0));
-        vsm.size = size;
+        let final_div = norm.map_or(max_of(values).max(1.0), |nm| nm.final_div);
+        scale(values, final_div);
+        VsmNorm {
+            mean,
+            importance_div,
+            edge_div,
+            boost,
+            final_div,
+        }
     }
 }
 
@@ -230,6 +363,47 @@ mod tests {
         // Far from the disc, the white background is not.
         assert_eq!(vsm.level(5, 5), SaliencyLevel::Background);
         assert!(vsm.get(75, 55) < 0.1);
+    }
+
+    /// A region recomputed on a later frame with the first frame's constants equals a full
+    /// build of the later frame with those constants, inside the region; outside, the map is
+    /// untouched.
+    #[test]
+    fn region_update_matches_a_full_build_inside_the_region() {
+        let a = disc_image(120, 90, 40.0, 30.0, 8.0, [215, 25, 28, 255], [255; 4]);
+        let mut b = a.clone();
+        for y in 50..70 {
+            for x in 70..95 {
+                b.set(x, y, [44, 123, 182, 255]);
+            }
+        }
+        let mut builder = VsmBuilder::new();
+        let mut vsm = builder.build(a.as_ref());
+        let before = vsm.clone();
+        let rect = Rect {
+            x0: 60,
+            y0: 40,
+            x1: 105,
+            y1: 80,
+        };
+        builder.update_region(b.as_ref(), &mut vsm, rect);
+        // Reference: b computed with a's constants over the whole frame.
+        let (mut v, mut i, mut e) = (
+            vec![0.0; 120 * 90],
+            vec![0.0; 120 * 90],
+            vec![0.0; 120 * 90],
+        );
+        builder.run(b.as_ref(), before.norm(), &mut v, &mut i, &mut e);
+        for y in 0..90u32 {
+            for x in 0..120u32 {
+                let k = (y * 120 + x) as usize;
+                let inside = x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1;
+                let want = if inside { v[k] } else { before.values()[k] };
+                assert_eq!(vsm.values()[k], want, "({x},{y}) inside {inside}");
+            }
+        }
+        assert!(vsm.get(70, 60) > vsm.get(82, 60), "edges above the inside");
+        assert!(vsm.get(82, 60) > 0.15, "its inside is context");
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! least [`MIN_SHARE`] (below that it is anti-aliasing, not a region).
 
 /// Histogram resolution over `[0, 1]`.
-pub(crate) const BINS: usize = 256;
+pub const BINS: usize = 256;
 /// Smallest share of pixels for the second peak to count as a region.
 const MIN_SHARE: f64 = 0.002;
 /// Smallest share for a further peak to count as another layer.
