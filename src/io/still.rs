@@ -3,41 +3,89 @@
 
 use crate::error::Error;
 use crate::image::{Image, Size, MAX_SIDE};
-use std::io::{BufReader, Cursor, Write};
+use image::{ImageDecoder, ImageError, ImageFormat};
+use std::io::{BufRead, BufReader, Cursor, Read, Seek, Write};
 use std::path::Path;
+
+/// Most bytes read from an input that is not a regular file (a pipe, a device): 1 GiB. A regular
+/// file is streamed, so only its header is read before the size checks.
+const MAX_STREAMED_BYTES: u64 = 1 << 30;
+
+/// Most bytes a decoder may allocate: the `image` crate's default of 512 MiB, about a
+/// 11000x11000 RGBA picture.
+const MAX_DECODE_BYTES: u64 = 512 * 1024 * 1024;
 
 /// Reads a still image (the first frame of an animation), as RGBA8.
 ///
-/// Sizes above [`MAX_SIDE`] are refused before any pixel is decoded.
+/// The format is recognised by content. Sizes above [`MAX_SIDE`] are refused from the header,
+/// before any pixel is decoded.
 pub fn read_still(path: &Path) -> Result<Image, Error> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+    if meta.is_dir() {
+        return Err(Error::decode(path, "is a directory, not an image"));
+    }
+    if meta.is_file() {
+        return decode_from(BufReader::new(file), path);
+    }
+    // Pipes and devices cannot seek, and `/dev/zero` never ends: read a bounded amount.
+    let mut bytes = Vec::new();
+    file.take(MAX_STREAMED_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > MAX_STREAMED_BYTES {
+        return Err(Error::decode(path, "input stream is larger than 1 GiB"));
+    }
     decode_still(&bytes, path)
 }
 
 /// Decodes a still image from memory; `path` only names it in errors.
 pub fn decode_still(bytes: &[u8], path: &Path) -> Result<Image, Error> {
-    let reader = image::ImageReader::new(BufReader::new(Cursor::new(bytes)))
+    decode_from(Cursor::new(bytes), path)
+}
+
+fn decode_from<R: BufRead + Seek>(source: R, path: &Path) -> Result<Image, Error> {
+    let mut reader = image::ImageReader::new(source)
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?;
-    let Some(format) = reader.format() else {
+    let format = match reader.format() {
+        Some(f) if f.reading_enabled() => f,
+        Some(f) => {
+            return Err(Error::decode(
+                path,
+                format!(
+                    "unsupported format {} (expected PNG, JPEG, WebP or GIF)",
+                    format_name(f)
+                ),
+            ))
+        }
+        None if is_empty(reader.into_inner()) => {
+            return Err(Error::decode(path, "empty file, not an image"))
+        }
+        None => {
+            return Err(Error::decode(
+                path,
+                "unsupported format (expected PNG, JPEG, WebP or GIF)",
+            ))
+        }
+    };
+    let name = format_name(format);
+    let mut limits = image::Limits::no_limits();
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    // Building the decoder reads the header only; the size is checked before any pixel.
+    let decoder = reader
+        .into_decoder()
+        .map_err(|e| Error::decode(path, describe(&name, e)))?;
+    let (w, h) = decoder.dimensions();
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
         return Err(Error::decode(
             path,
-            "unsupported format (expected PNG, JPEG, WebP or GIF)",
+            format!("{name} declares {w}x{h} px: out of range, each side must be 1 to {MAX_SIDE}"),
         ));
-    };
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_SIDE);
-    limits.max_image_height = Some(MAX_SIDE);
-    let mut reader = reader;
-    reader.limits(limits);
-    let decoded = reader.decode().map_err(|e| match e {
-        image::ImageError::Limits(_) => Error::decode(
-            path,
-            format!("{format:?} image is larger than {MAX_SIDE} px on a side"),
-        ),
-        image::ImageError::Unsupported(u) => Error::decode(path, format!("unsupported: {u}")),
-        other => Error::decode(path, format!("corrupt or truncated {format:?}: {other}")),
-    })?;
+    }
+    let decoded = image::DynamicImage::from_decoder(decoder)
+        .map_err(|e| Error::decode(path, describe(&name, e)))?;
     let rgba = decoded.into_rgba8();
     let size = Size::new(rgba.width(), rgba.height()).map_err(|_| {
         Error::decode(
@@ -49,7 +97,67 @@ pub fn decode_still(bytes: &[u8], path: &Path) -> Result<Image, Error> {
             ),
         )
     })?;
-    Ok(Image::from_rgba_bytes(size, rgba.as_raw()).expect("decoder gives w*h*4 bytes"))
+    Image::from_rgba_bytes(size, rgba.as_raw())
+        .ok_or_else(|| Error::decode(path, "the decoder returned a wrong number of pixels"))
+}
+
+fn is_empty<R: Read>(mut r: R) -> bool {
+    matches!(r.read(&mut [0u8; 1]), Ok(0))
+}
+
+fn format_name(f: ImageFormat) -> String {
+    match f {
+        ImageFormat::Png => "PNG".into(),
+        ImageFormat::Jpeg => "JPEG".into(),
+        ImageFormat::WebP => "WebP".into(),
+        ImageFormat::Gif => "GIF".into(),
+        other => other
+            .extensions_str()
+            .first()
+            .map_or_else(|| format!("{other:?}"), |e| e.to_ascii_uppercase()),
+    }
+}
+
+/// One line saying what is wrong with the file: truncated, corrupt, unsupported or too large.
+fn describe(name: &str, e: ImageError) -> String {
+    let truncated = {
+        let mut src: Option<&(dyn std::error::Error + 'static)> = Some(&e);
+        let mut eof = false;
+        while let Some(s) = src {
+            eof |= s
+                .downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::UnexpectedEof);
+            eof |= s.to_string().contains("end of file");
+            src = s.source();
+        }
+        eof
+    };
+    let text = match &e {
+        ImageError::Limits(_) => {
+            return format!(
+                "{name} image needs more than {} MiB to decode",
+                MAX_DECODE_BYTES >> 20
+            )
+        }
+        ImageError::Unsupported(u) => return one_line(&format!("unsupported {name} variant: {u}")),
+        // "Format error decoding Png: <detail>": keep the detail.
+        ImageError::Decoding(d) => {
+            std::error::Error::source(d).map_or_else(|| d.to_string(), |s| s.to_string())
+        }
+        other => other.to_string(),
+    };
+    if truncated {
+        format!("truncated {name}: the file ends early")
+    } else {
+        one_line(&format!("corrupt {name}: {text}"))
+    }
+}
+
+/// Decoders may quote raw bytes from the file: keep the message on one printable line.
+fn one_line(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { '?' } else { c })
+        .collect()
 }
 
 /// Still output formats.
