@@ -1,21 +1,67 @@
+//! The `vizretarget` binary: parse, run, report. Exit codes: 0 done, 1 failed (bad input,
+//! unwritable output, ...), 2 usage error (from clap). Every error is one line on stderr.
+
 use clap::Parser;
 use std::process::ExitCode;
 
 mod cli;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        // --help and --version go to stdout, as clap prints them.
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            eprintln!("vizretarget: error: {} (see --help)", usage_line(&e));
+            return ExitCode::from(e.exit_code().clamp(1, 255) as u8);
+        }
+    };
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            let mut msg = format!("vizretarget: error: {e}");
-            let mut src = e.source();
-            while let Some(s) = src {
-                msg.push_str(&format!(": {s}"));
-                src = s.source();
-            }
-            eprintln!("{msg}");
+            eprintln!("vizretarget: error: {}", chain_line(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// The error and its causes, joined by ": ". A cause whose text its parent already shows (the
+/// library's `Io` error prints its `io::Error`) is not repeated, as `{e:#}` would.
+fn chain_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.ends_with(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    printable(&line)
+}
+
+/// clap's message without its "error: " prefix, usage block and hint, on one line.
+fn usage_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let text = text.split("\nUsage:").next().unwrap_or_default();
+    let mut line = String::new();
+    for part in text.lines().map(str::trim) {
+        if part.is_empty() || part.starts_with("For more information") {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(if part.starts_with("tip:") { "; " } else { " " });
+        }
+        line.push_str(part);
+    }
+    printable(line.strip_prefix("error: ").unwrap_or(&line))
+}
+
+/// Paths and decoder messages may hold control characters: keep the report on one line.
+fn printable(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { '?' } else { c })
+        .collect()
 }

@@ -13,10 +13,22 @@ use vizretarget::{debug, retarget, Options, Retargeted, Size};
 pub fn run(cli: Cli) -> Result<()> {
     let format = OutputFormat::from_path(&cli.output).with_context(|| {
         format!(
-            "cannot tell the output format of '{}': use a .png, .jpg or .jpeg name",
+            "{}: unsupported output format: use a name ending in .png, .jpg or .jpeg",
             cli.output.display()
         )
     })?;
+    // Fail before the work, not after it: the output's folder must exist.
+    let out_dir = match cli.output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !out_dir.is_dir() {
+        bail!(
+            "{}: the output folder {} does not exist",
+            cli.output.display(),
+            out_dir.display()
+        );
+    }
     let options = Options::default()
         .with_alpha(cli.alpha)
         .with_analysis(cli.debug_dir.is_some());
