@@ -1,0 +1,393 @@
+//! The command line as a user meets it: every bad input gives one line on stderr naming the
+//! problem, a non-zero exit, no panic, and no output or temporary file left behind. Inputs are
+//! made by each test in its own temporary folder.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// Runs the binary in `dir` with `args`.
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A failed run: exit `code`, one line on stderr holding every word of `words`, no panic.
+fn assert_fails(out: &Output, code: i32, words: &[&str]) {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(code), "exit code; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err:?}");
+    for w in words {
+        assert!(err.contains(w), "stderr lacks {w:?}: {err}");
+    }
+}
+
+/// The folder holds exactly `names`: no output, no temporary file.
+fn assert_only(dir: &Path, names: &[&str]) {
+    let mut found: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    let mut want: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+    want.sort();
+    assert_eq!(found, want, "files left in {}", dir.display());
+}
+
+/// A 300x200 chart-like picture: white, a blue disc, a red bar, a grey axis.
+fn chart(w: u32, h: u32) -> image::RgbImage {
+    image::RgbImage::from_fn(w, h, |x, y| {
+        let (dx, dy) = (x as i32 - 80, y as i32 - 90);
+        if dx * dx + dy * dy <= 15 * 15 {
+            image::Rgb([40, 90, 200])
+        } else if (180..210).contains(&x) && (60..180).contains(&y) {
+            image::Rgb([210, 50, 40])
+        } else if y + 10 == h || x == 10 {
+            image::Rgb([90, 90, 90])
+        } else {
+            image::Rgb([255, 255, 255])
+        }
+    })
+}
+
+fn png_bytes(w: u32, h: u32) -> Vec<u8> {
+    let mut out = std::io::Cursor::new(Vec::new());
+    chart(w, h)
+        .write_to(&mut out, image::ImageFormat::Png)
+        .unwrap();
+    out.into_inner()
+}
+
+/// A temporary folder holding `name` with `bytes`.
+fn folder_with(name: &str, bytes: &[u8]) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, bytes).unwrap();
+    (dir, path)
+}
+
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in bytes {
+        crc ^= b as u32;
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+fn png_chunk(kind: &[u8; 4], data: &[u8]) -> Vec<u8> {
+    let mut body = kind.to_vec();
+    body.extend_from_slice(data);
+    let mut out = (data.len() as u32).to_be_bytes().to_vec();
+    out.extend_from_slice(&body);
+    out.extend_from_slice(&crc32(&body).to_be_bytes());
+    out
+}
+
+const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+#[test]
+fn crc32_matches_a_png_encoder() {
+    // The IHDR of a real PNG ends with the CRC our helper must reproduce.
+    let png = png_bytes(3, 2);
+    assert_eq!(
+        crc32(&png[12..29]).to_be_bytes(),
+        png[29..33],
+        "crc of IHDR"
+    );
+}
+
+#[test]
+fn missing_input_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(
+        dir.path(),
+        &["nothere.png", "--size", "100x100", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["nothere.png", "No such file"]);
+    // The OS message must appear once, not twice.
+    assert_eq!(
+        stderr(&out).matches("No such file").count(),
+        1,
+        "{}",
+        stderr(&out)
+    );
+    assert_only(dir.path(), &[]);
+}
+
+#[test]
+fn corrupt_png() {
+    let mut bytes = PNG_SIGNATURE.to_vec();
+    let mut x = 0x2545_F491u32;
+    bytes.extend((0..2000).map(|_| {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x as u8
+    }));
+    let (dir, _) = folder_with("noise.png", &bytes);
+    let out = run(
+        dir.path(),
+        &["noise.png", "--size", "100x100", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["noise.png", "corrupt PNG"]);
+    assert_only(dir.path(), &["noise.png"]);
+}
+
+#[test]
+fn truncated_png() {
+    let png = png_bytes(300, 200);
+    let (dir, _) = folder_with("half.png", &png[..png.len() / 2]);
+    let out = run(
+        dir.path(),
+        &["half.png", "--size", "150x200", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["half.png", "truncated PNG"]);
+    assert_only(dir.path(), &["half.png"]);
+}
+
+#[test]
+fn unsupported_format_bmp() {
+    // A BMP header: recognised as BMP, which this tool does not read.
+    let mut bmp = b"BM".to_vec();
+    bmp.extend_from_slice(&[0u8; 64]);
+    let (dir, _) = folder_with("chart.bmp", &bmp);
+    let out = run(
+        dir.path(),
+        &["chart.bmp", "--size", "100x100", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["chart.bmp", "unsupported format BMP"]);
+    assert_only(dir.path(), &["chart.bmp"]);
+}
+
+#[test]
+fn unsupported_format_text() {
+    let (dir, _) = folder_with("notes.png", b"this is a text file, not a picture\n");
+    let out = run(
+        dir.path(),
+        &["notes.png", "--size", "100x100", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["notes.png", "unsupported format"]);
+    assert_only(dir.path(), &["notes.png"]);
+}
+
+#[test]
+fn empty_input_file() {
+    let (dir, _) = folder_with("empty.png", b"");
+    let out = run(
+        dir.path(),
+        &["empty.png", "--size", "100x100", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["empty.png", "empty file"]);
+    assert_only(dir.path(), &["empty.png"]);
+}
+
+/// Usage errors found while parsing: exit 2, one line naming the value.
+fn assert_usage_error(args: &[&str], words: &[&str]) {
+    let (dir, _) = folder_with("in.png", &png_bytes(300, 200));
+    let mut all = vec!["in.png", "-o", "out.png"];
+    all.extend_from_slice(args);
+    let out = run(dir.path(), &all);
+    assert_fails(&out, 2, words);
+    assert_only(dir.path(), &["in.png"]);
+}
+
+#[test]
+fn target_of_zero() {
+    assert_usage_error(
+        &["--size", "0x100"],
+        &["'0x100'", "out of range", "1 to 16384"],
+    );
+}
+
+#[test]
+fn size_not_a_number() {
+    assert_usage_error(&["--size", "abcx100"], &["'abc'", "not a whole number"]);
+}
+
+#[test]
+fn width_not_a_number() {
+    assert_usage_error(&["--width", "ten"], &["'ten'", "not a whole number"]);
+}
+
+#[test]
+fn negative_width() {
+    assert_usage_error(&["--width", "-5"], &["-5", "out of range"]);
+}
+
+#[test]
+fn absurd_target() {
+    assert_usage_error(
+        &["--size", "20000x100"],
+        &["20000", "out of range", "16384"],
+    );
+}
+
+#[test]
+fn no_target_given() {
+    assert_usage_error(&[], &["--size", "--width", "--height"]);
+}
+
+#[test]
+fn alpha_out_of_range() {
+    let (dir, _) = folder_with("in.png", &png_bytes(300, 200));
+    let out = run(
+        dir.path(),
+        &["in.png", "--width", "150", "--alpha", "1", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["alpha 1", "out of range", "4 to 200"]);
+    assert_only(dir.path(), &["in.png"]);
+}
+
+#[test]
+fn huge_declared_png_is_refused_from_its_header() {
+    // A well-formed IHDR (correct CRC) declaring 20000x20000 RGB8, then a tiny IDAT: decoding
+    // pixels would need 1.2 GB, so the refusal must come from the header, fast.
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&20000u32.to_be_bytes());
+    ihdr.extend_from_slice(&20000u32.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+    let mut png = PNG_SIGNATURE.to_vec();
+    png.extend(png_chunk(b"IHDR", &ihdr));
+    png.extend(png_chunk(
+        b"IDAT",
+        &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01],
+    ));
+    png.extend(png_chunk(b"IEND", &[]));
+    let (dir, _) = folder_with("huge.png", &png);
+    let start = Instant::now();
+    let out = run(
+        dir.path(),
+        &["huge.png", "--size", "100x100", "-o", "out.png"],
+    );
+    let took = start.elapsed();
+    assert_fails(&out, 1, &["huge.png", "20000x20000", "out of range"]);
+    assert!(took < Duration::from_secs(5), "took {took:?}");
+    assert_only(dir.path(), &["huge.png"]);
+}
+
+#[test]
+fn unknown_output_extension() {
+    let (dir, _) = folder_with("in.png", &png_bytes(300, 200));
+    let out = run(
+        dir.path(),
+        &["in.png", "--size", "150x200", "-o", "out.bmp"],
+    );
+    assert_fails(&out, 1, &["out.bmp", "unsupported output format", ".png"]);
+    assert_only(dir.path(), &["in.png"]);
+}
+
+#[test]
+fn output_folder_missing() {
+    let (dir, _) = folder_with("in.png", &png_bytes(300, 200));
+    let out = run(
+        dir.path(),
+        &["in.png", "--size", "150x200", "-o", "no/such/out.png"],
+    );
+    assert_fails(&out, 1, &["no/such/out.png", "does not exist"]);
+    assert_only(dir.path(), &["in.png"]);
+}
+
+#[test]
+fn existing_output_is_not_clobbered_by_a_failed_run() {
+    let png = png_bytes(300, 200);
+    let (dir, _) = folder_with("half.png", &png[..png.len() / 2]);
+    let before = b"precious bytes that must survive".to_vec();
+    std::fs::write(dir.path().join("out.png"), &before).unwrap();
+    let out = run(
+        dir.path(),
+        &["half.png", "--size", "150x200", "-o", "out.png"],
+    );
+    assert_fails(&out, 1, &["half.png", "truncated"]);
+    assert_eq!(std::fs::read(dir.path().join("out.png")).unwrap(), before);
+    assert_only(dir.path(), &["half.png", "out.png"]);
+}
+
+/// A successful run: exit 0, quiet stderr, output decodes to `w` x `h`, only `files` left.
+fn assert_writes(args: &[&str], output: &str, w: u32, h: u32) -> Vec<u8> {
+    let (dir, _) = folder_with("in.png", &png_bytes(300, 200));
+    let mut all = vec!["in.png", "-o", output];
+    all.extend_from_slice(args);
+    let out = run(dir.path(), &all);
+    assert!(out.status.success(), "failed: {}", stderr(&out));
+    assert!(stderr(&out).is_empty(), "stderr: {}", stderr(&out));
+    let bytes = std::fs::read(dir.path().join(output)).unwrap();
+    let img = image::load_from_memory(&bytes).unwrap();
+    assert_eq!((img.width(), img.height()), (w, h));
+    assert_only(dir.path(), &["in.png", output]);
+    bytes
+}
+
+#[test]
+fn size_gives_that_size() {
+    let bytes = assert_writes(&["--size", "150x200"], "out.png", 150, 200);
+    assert!(bytes.starts_with(PNG_SIGNATURE));
+}
+
+#[test]
+fn width_alone_keeps_height() {
+    assert_writes(&["--width", "120"], "out.png", 120, 200);
+}
+
+#[test]
+fn height_alone_keeps_width() {
+    assert_writes(&["--height", "90"], "out.png", 300, 90);
+}
+
+#[test]
+fn jpg_output_is_jpeg() {
+    let bytes = assert_writes(&["--size", "150x200"], "out.jpg", 150, 200);
+    assert!(bytes.starts_with(&[0xFF, 0xD8, 0xFF]), "JPEG magic");
+    assert_eq!(
+        image::guess_format(&bytes).unwrap(),
+        image::ImageFormat::Jpeg
+    );
+}
+
+#[test]
+fn existing_output_is_replaced_on_success() {
+    let (dir, _) = folder_with("in.png", &png_bytes(300, 200));
+    std::fs::write(dir.path().join("out.png"), b"old").unwrap();
+    let out = run(dir.path(), &["in.png", "--width", "150", "-o", "out.png"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(dir.path().join("out.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (150, 200));
+    assert_only(dir.path(), &["in.png", "out.png"]);
+}
+
+#[test]
+fn help_teaches() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(dir.path(), &["--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(help.contains("aspect ratio"), "{help}");
+    assert!(help.contains("Examples:"), "{help}");
+    assert_eq!(
+        help.matches("    vizretarget ").count(),
+        3,
+        "three examples: {help}"
+    );
+    for want in [
+        "1 to 16384",
+        "4 to 200",
+        "[default: 20]",
+        ".png, .jpg or .jpeg",
+    ] {
+        assert!(help.contains(want), "help lacks {want:?}: {help}");
+    }
+}
