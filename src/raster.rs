@@ -61,7 +61,11 @@ fn bound(k: i64, c: i64, strict: bool) -> (i64, i64) {
     }
     // Clamp the estimate to a range where k·x cannot overflow (|x| ≤ 2^31 pixels).
     let est = (-(c as f64) / k as f64).clamp(-2e9, 2e9);
-    let mut x = est.floor() as i64;
+    // Truncate, then step down for negatives: `floor` is a libm call on baseline x86-64.
+    let mut x = est as i64;
+    if (x as f64) > est {
+        x -= 1;
+    }
     if k > 0 {
         // Smallest passing x.
         while pass(x - 1) {

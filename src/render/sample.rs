@@ -8,12 +8,10 @@
 //! into the edges of opaque ones. Coordinates become integers by truncation after a shift that
 //! keeps them non-negative, never by `floor` (a libm call on baseline x86-64).
 
-/// Source pixels with their dimensions; `lanes`, when not empty, holds the same pixels already
-/// spread into SWAR lanes (see [`lanes`]), which the opaque path reads instead.
+/// Source pixels with their dimensions.
 #[derive(Copy, Clone)]
 pub(crate) struct Texels<'a> {
     pub px: &'a [[u8; 4]],
-    pub lanes: &'a [u64],
     pub w: i32,
     pub h: i32,
 }
@@ -54,11 +52,8 @@ impl Texels<'_> {
     #[inline(always)]
     pub fn bilinear_lanes(&self, u: f32, v: f32) -> u64 {
         let (i, tx, ty) = self.taps(u, v);
-        let [a, b, c, d] = if self.lanes.is_empty() {
-            i.map(|i| lanes(self.px[i]))
-        } else {
-            i.map(|i| self.lanes[i])
-        };
+        let (a, b) = (lanes(self.px[i[0]]), lanes(self.px[i[1]]));
+        let (c, d) = (lanes(self.px[i[2]]), lanes(self.px[i[3]]));
         let (tx, ty) = (tx as u64, ty as u64);
         let top = a * (256 - tx) + b * tx;
         let bot = c * (256 - tx) + d * tx;
@@ -92,7 +87,8 @@ const LANE12: u64 = 0xFFF | 0xFFF << 21 | 0xFFF << 42;
 /// RGB spread into three 21-bit lanes of a `u64`.
 #[inline(always)]
 pub(crate) fn lanes(p: [u8; 4]) -> u64 {
-    p[0] as u64 | (p[1] as u64) << 21 | (p[2] as u64) << 42
+    let x = u32::from_le_bytes(p) as u64;
+    (x & 0xFF) | (x & 0xFF00) << 13 | (x & 0xFF_0000) << 26
 }
 
 /// The three lanes as separate channel values (still scaled by 4096).
@@ -162,7 +158,6 @@ mod tests {
             .collect();
         let t = Texels {
             px: &px,
-            lanes: &[],
             w: 8,
             h: 8,
         };

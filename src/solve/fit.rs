@@ -35,62 +35,78 @@ fn extent(line: impl Iterator<Item = bool>) -> u32 {
     let mut total = 0u32;
     let mut gap: Option<u32> = None; // None before the first mark
     for on in line {
-        if on {
-            if let Some(g) = gap {
-                if g < MAX_GAP_PX {
-                    total += g;
-                }
-            }
-            total += 1;
-            gap = Some(0);
-        } else if let Some(g) = gap.as_mut() {
-            *g += 1;
-        }
+        extent_step(&mut total, &mut gap, on);
     }
     total
+}
+
+/// One pixel of [`extent`].
+#[inline]
+fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool) {
+    if on {
+        if let Some(g) = *gap {
+            if g < MAX_GAP_PX {
+                *total += g;
+            }
+        }
+        *total += 1;
+        *gap = Some(0);
+    } else if let Some(g) = gap.as_mut() {
+        *g += 1;
+    }
 }
 
 /// The scale salient content should keep: in `[min(w'/w, h'/h), 1]`.
 pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 {
     let size = vsm.size();
     let (w, h) = (size.width as usize, size.height as usize);
-    let mask: Vec<bool> = vsm.importance().iter().map(|&v| v >= threshold).collect();
-    // thick_v: in a vertical run of at least MIN_THICKNESS_PX (counts for row widths);
-    // thick_h: in a horizontal run of at least as many (counts for column heights).
+    let imp = vsm.importance();
+    // Row widths: mark pixels in vertical runs of at least MIN_THICKNESS_PX. A pixel's run
+    // is known when the run ends, so rows are filled in per column run, walking rows in order
+    // (per-column counters, row-major reads).
     let mut thick_v = vec![false; w * h];
-    let mut thick_h = vec![false; w * h];
-    for x in 0..w {
-        let mut len = 0;
-        for y in 0..=h {
-            if y < h && mask[y * w + x] {
-                len += 1;
-            } else {
-                if len >= MIN_THICKNESS_PX {
-                    (y - len..y).for_each(|yy| thick_v[yy * w + x] = true);
-                }
-                len = 0;
+    let mut run = vec![0u32; w];
+    for y in 0..=h {
+        for x in 0..w {
+            if y < h && imp[y * w + x] >= threshold {
+                run[x] += 1;
+                continue;
             }
+            let len = run[x] as usize;
+            if len >= MIN_THICKNESS_PX {
+                for yy in y - len..y {
+                    thick_v[yy * w + x] = true;
+                }
+            }
+            run[x] = 0;
         }
     }
+    let mut rows: Vec<u32> = thick_v
+        .chunks_exact(w)
+        .map(|r| extent(r.iter().copied()))
+        .collect();
+    // Column heights: mark pixels in horizontal runs of at least as many, with the gap logic
+    // of `extent` run per column through per-column state.
+    let mut cols = vec![0u32; w];
+    let mut gap: Vec<Option<u32>> = vec![None; w];
     for y in 0..h {
-        let mut len = 0;
+        let row = &imp[y * w..][..w];
+        let mut len = 0usize;
         for x in 0..=w {
-            if x < w && mask[y * w + x] {
+            if x < w && row[x] >= threshold {
                 len += 1;
-            } else {
-                if len >= MIN_THICKNESS_PX {
-                    thick_h[y * w + x - len..y * w + x].fill(true);
-                }
-                len = 0;
+                continue;
             }
+            let thick = len >= MIN_THICKNESS_PX;
+            for xx in x - len..x {
+                extent_step(&mut cols[xx], &mut gap[xx], thick);
+            }
+            if x < w {
+                extent_step(&mut cols[x], &mut gap[x], false);
+            }
+            len = 0;
         }
     }
-    let mut rows: Vec<u32> = (0..h)
-        .map(|y| extent((0..w).map(|x| thick_v[y * w + x])))
-        .collect();
-    let mut cols: Vec<u32> = (0..w)
-        .map(|x| extent((0..h).map(|y| thick_h[y * w + x])))
-        .collect();
     let pct = |v: &mut Vec<u32>| -> f64 {
         v.sort_unstable();
         let i = ((v.len() as f64 - 1.0) * PERCENTILE).round() as usize;
