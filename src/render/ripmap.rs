@@ -107,7 +107,7 @@ fn mean2(a: [u8; 4], b: [u8; 4]) -> [u8; 4] {
         return [0, 0, 0, 0];
     }
     let c = |k: usize| ((a[k] as u32 * wa + b[k] as u32 * wb + sum / 2) / sum) as u8;
-    [c(0), c(1), c(2), ((sum + 1) / 2) as u8]
+    [c(0), c(1), c(2), sum.div_ceil(2) as u8]
 }
 
 #[cfg(test)]

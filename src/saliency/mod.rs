@@ -254,7 +254,7 @@ impl VsmBuilder {
         &mut self,
         image: ImageRef<'_>,
         norm: Option<&VsmNorm>,
-        values: &mut Vec<f32>,
+        values: &mut [f32],
         importance: &mut Vec<f32>,
         edges: &mut Vec<f32>,
     ) -> VsmNorm {
