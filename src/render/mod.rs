@@ -47,7 +47,7 @@ impl Renderer {
             *dst = Image::new(target);
         }
         let opaque = src.pixels().iter().all(|p| p[3] == 255);
-        self.ripmap.clear();
+        self.ripmap.clear(opaque);
         let ripmap = &mut self.ripmap;
         let (tw, th) = (target.width, target.height);
         let twu = tw as usize;

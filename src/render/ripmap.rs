@@ -11,17 +11,25 @@ use crate::image::{Image, ImageRef, Size};
 /// Levels per axis: reductions up to 8×; beyond that the renderer's taps cover the rest.
 pub(crate) const LEVELS: usize = 4;
 
-/// The levels of one source frame.
+/// The levels of one source frame. The level buffers are kept between frames; only their
+/// contents are rebuilt.
 #[derive(Default)]
 pub(crate) struct Ripmap {
-    levels: Vec<Option<Image>>,
+    levels: Vec<Image>,
+    built: Vec<bool>,
+    opaque: bool,
 }
 
 impl Ripmap {
-    /// Forgets the levels of the previous frame (keeps nothing that could be stale).
-    pub fn clear(&mut self) {
-        self.levels.clear();
-        self.levels.resize_with(LEVELS * LEVELS, || None);
+    /// Starts a new frame: every level is stale. `opaque` says the source has no transparency
+    /// (a faster averaging path).
+    pub fn clear(&mut self, opaque: bool) {
+        if self.levels.len() != LEVELS * LEVELS {
+            self.levels = (0..LEVELS * LEVELS).map(|_| Image::new(Size { width: 1, height: 1 })).collect();
+        }
+        self.built.clear();
+        self.built.resize(LEVELS * LEVELS, false);
+        self.opaque = opaque;
     }
 
     /// The level `(lx, ly)` of `src`, building it (and the levels it derives from) if needed.
@@ -31,64 +39,72 @@ impl Ripmap {
             return src;
         }
         self.ensure(src, lx, ly);
-        self.levels[lx * LEVELS + ly]
-            .as_ref()
-            .expect("built")
-            .as_ref()
+        self.levels[lx * LEVELS + ly].as_ref()
     }
 
     fn ensure(&mut self, src: ImageRef<'_>, lx: usize, ly: usize) {
-        if (lx == 0 && ly == 0) || self.levels[lx * LEVELS + ly].is_some() {
+        let k = lx * LEVELS + ly;
+        if (lx == 0 && ly == 0) || self.built[k] {
             return;
         }
         // Derive from the level one step back along x when possible, else along y.
-        let (px, py, along_x) = if lx > 0 {
-            (lx - 1, ly, true)
-        } else {
-            (lx, ly - 1, false)
-        };
+        let (px, py, along_x) = if lx > 0 { (lx - 1, ly, true) } else { (lx, ly - 1, false) };
         self.ensure(src, px, py);
-        let parent = if px == 0 && py == 0 {
-            src
-        } else {
-            self.levels[px * LEVELS + py]
-                .as_ref()
-                .expect("built")
-                .as_ref()
-        };
-        let img = halve(parent, along_x);
-        self.levels[lx * LEVELS + ly] = Some(img);
+        let mut out = std::mem::replace(&mut self.levels[k], Image::new(Size { width: 1, height: 1 }));
+        {
+            let parent = if px == 0 && py == 0 {
+                src
+            } else {
+                self.levels[px * LEVELS + py].as_ref()
+            };
+            halve(parent, along_x, self.opaque, &mut out);
+        }
+        self.levels[k] = out;
+        self.built[k] = true;
     }
 }
 
-/// `src` halved along one axis: each texel is the alpha-weighted mean of two (an odd last one
-/// is kept as is).
-fn halve(src: ImageRef<'_>, along_x: bool) -> Image {
+/// `src` halved along one axis into `out`: each texel is the alpha-weighted mean of two (an odd
+/// last one is kept as is).
+fn halve(src: ImageRef<'_>, along_x: bool, opaque: bool, out: &mut Image) {
     let (w, h) = (src.width() as usize, src.height() as usize);
-    let (nw, nh) = if along_x {
-        (w.div_ceil(2), h)
-    } else {
-        (w, h.div_ceil(2))
-    };
-    let size = Size {
-        width: nw as u32,
-        height: nh as u32,
-    };
+    let (nw, nh) = if along_x { (w.div_ceil(2), h) } else { (w, h.div_ceil(2)) };
+    let size = Size { width: nw as u32, height: nh as u32 };
+    if out.size() != size {
+        *out = Image::new(size);
+    }
     let px = src.pixels();
-    let mut out = Vec::with_capacity(nw * nh);
-    for y in 0..nh {
-        for x in 0..nw {
-            let (a, b) = if along_x {
-                let i = y * w + 2 * x;
-                (px[i], px[if 2 * x + 1 < w { i + 1 } else { i }])
+    let dst = out.pixels_mut();
+    let avg: fn([u8; 4], [u8; 4]) -> [u8; 4] = if opaque { mean2_opaque } else { mean2 };
+    if along_x {
+        for (srow, drow) in px.chunks_exact(w).zip(dst.chunks_exact_mut(nw)) {
+            for (d, pair) in drow.iter_mut().zip(srow.chunks_exact(2)) {
+                *d = avg(pair[0], pair[1]);
+            }
+            if w % 2 == 1 {
+                drow[nw - 1] = srow[w - 1];
+            }
+        }
+    } else {
+        for (y, drow) in dst.chunks_exact_mut(nw).enumerate() {
+            let a = &px[2 * y * w..][..w];
+            if 2 * y + 1 < h {
+                let b = &px[(2 * y + 1) * w..][..w];
+                for ((d, &p), &q) in drow.iter_mut().zip(a).zip(b) {
+                    *d = avg(p, q);
+                }
             } else {
-                let i = 2 * y * w + x;
-                (px[i], px[if 2 * y + 1 < h { i + w } else { i }])
-            };
-            out.push(mean2(a, b));
+                drow.copy_from_slice(a);
+            }
         }
     }
-    Image::from_pixels(size, out).expect("size matches")
+}
+
+/// Mean of two opaque pixels, rounding up, four channels at once.
+#[inline]
+fn mean2_opaque(a: [u8; 4], b: [u8; 4]) -> [u8; 4] {
+    let (x, y) = (u32::from_le_bytes(a), u32::from_le_bytes(b));
+    ((x | y) - (((x ^ y) & 0xFEFE_FEFE) >> 1)).to_le_bytes()
 }
 
 #[inline]
@@ -118,20 +134,29 @@ mod tests {
     fn halving_averages_pairs_and_keeps_odd_edges() {
         let px = vec![[10, 20, 30, 255], [30, 40, 50, 255], [100, 100, 100, 255]];
         let img = Image::from_pixels(Size::new(3, 1).unwrap(), px).unwrap();
-        let h = halve(img.as_ref(), true);
-        assert_eq!(h.size(), Size::new(2, 1).unwrap());
-        assert_eq!(h.pixels(), &[[20, 30, 40, 255], [100, 100, 100, 255]]);
+        let mut h = Image::new(Size::new(1, 1).unwrap());
+        for opaque in [true, false] {
+            halve(img.as_ref(), true, opaque, &mut h);
+            assert_eq!(h.size(), Size::new(2, 1).unwrap());
+            assert_eq!(h.pixels(), &[[20, 30, 40, 255], [100, 100, 100, 255]]);
+        }
+        // Rounding of the opaque path matches the general one.
+        for (a, b) in [(0u8, 255u8), (1, 2), (254, 255), (100, 101)] {
+            let p = mean2_opaque([a, b, a, 255], [b, a, b, 255]);
+            assert_eq!(p, mean2([a, b, a, 255], [b, a, b, 255]), "{a} {b}");
+        }
         // Transparent pixels do not darken their neighbour.
         let px = vec![[200, 0, 0, 255], [0, 0, 0, 0]];
         let img = Image::from_pixels(Size::new(1, 2).unwrap(), px).unwrap();
-        assert_eq!(halve(img.as_ref(), false).pixels(), &[[200, 0, 0, 128]]);
+        halve(img.as_ref(), false, false, &mut h);
+        assert_eq!(h.pixels(), &[[200, 0, 0, 128]]);
     }
 
     #[test]
     fn levels_compose() {
         let img = Image::filled(Size::new(13, 7).unwrap(), [9, 8, 7, 255]);
         let mut r = Ripmap::default();
-        r.clear();
+        r.clear(true);
         let l = r.level(img.as_ref(), 2, 1);
         assert_eq!(l.size(), Size::new(4, 4).unwrap());
         assert!(l.pixels().iter().all(|&p| p == [9, 8, 7, 255]));
