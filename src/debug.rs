@@ -6,17 +6,23 @@ use crate::image::{Image, Size};
 use crate::saliency::{SaliencyLevel, Vsm};
 use glam::DVec2;
 
-/// The VSM as a grey-scale image (white = 1).
+/// The VSM as a grey-scale image (white = 1), at the image's size.
 pub fn vsm_image(vsm: &Vsm) -> Image {
-    let px = vsm
-        .values()
-        .iter()
-        .map(|&v| {
-            let g = (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-            [g, g, g, 255]
-        })
+    per_pixel(vsm, |v| {
+        let g = (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        [g, g, g, 255]
+    })
+}
+
+/// An image of the VSM's size with `f` of each pixel's saliency (maps at half resolution are
+/// shown with each cell over its pixels).
+fn per_pixel(vsm: &Vsm, f: impl Fn(f32) -> [u8; 4]) -> Image {
+    let size = vsm.size();
+    let px = (0..size.height)
+        .flat_map(|y| (0..size.width).map(move |x| (x, y)))
+        .map(|(x, y)| f(vsm.get(x, y)))
         .collect();
-    Image::from_pixels(vsm.size(), px).expect("same size")
+    Image::from_pixels(size, px).expect("same size")
 }
 
 /// Colour of each saliency level in [`levels_image`].
@@ -28,12 +34,7 @@ pub const LEVEL_COLOURS: [[u8; 4]; 3] = [
 
 /// The saliency levels: k = 1 light grey, k = 2 orange, k = 3 red.
 pub fn levels_image(vsm: &Vsm) -> Image {
-    let px = vsm
-        .values()
-        .iter()
-        .map(|&v| LEVEL_COLOURS[SaliencyLevel::of(v).index()])
-        .collect();
-    Image::from_pixels(vsm.size(), px).expect("same size")
+    per_pixel(vsm, |v| LEVEL_COLOURS[SaliencyLevel::of(v).index()])
 }
 
 /// `base` with the triangles' edges drawn over it (anti-aliased, blue) and vertices as dots.

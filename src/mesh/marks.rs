@@ -35,8 +35,11 @@ pub struct Mark {
 
 /// Finds small marks in `vsm`, merging blobs whose rings would overlap.
 pub(crate) fn find_marks(vsm: &Vsm) -> Vec<Mark> {
-    let size = vsm.size();
-    let (w, h) = (size.width as usize, size.height as usize);
+    let grid = vsm.grid_size();
+    let s = vsm.scale();
+    let (w, h) = (grid.width as usize, grid.height as usize);
+    // Size limits in map cells.
+    let max_side = MAX_SIDE_PX.div_ceil(s);
     let imp = vsm.importance();
     let mut seen = vec![false; w * h];
     let mut stack: Vec<u32> = Vec::new();
@@ -57,7 +60,7 @@ pub(crate) fn find_marks(vsm: &Vsm) -> Vec<Mark> {
             y0 = y0.min(y as u32);
             x1 = x1.max(x as u32 + 1);
             y1 = y1.max(y as u32 + 1);
-            too_big |= x1 - x0 > MAX_SIDE_PX || y1 - y0 > MAX_SIDE_PX;
+            too_big |= x1 - x0 > max_side || y1 - y0 > max_side;
             for dy in -1i64..=1 {
                 for dx in -1i64..=1 {
                     let (nx, ny) = (x as i64 + dx, y as i64 + dy);
@@ -74,7 +77,14 @@ pub(crate) fn find_marks(vsm: &Vsm) -> Vec<Mark> {
         }
         // A region too big for a ring (an axis, a bar, a block of text) is the lattice's job.
         if !too_big {
-            blobs.push(mark_of([x0, y0, x1, y1], pixels));
+            // Back to image pixels.
+            let bbox = [
+                x0 * s,
+                y0 * s,
+                (x1 * s).min(vsm.size().width),
+                (y1 * s).min(vsm.size().height),
+            ];
+            blobs.push(mark_of(bbox, pixels * s * s));
         }
     }
     let merged = merge_overlapping(blobs);

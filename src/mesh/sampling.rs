@@ -56,9 +56,10 @@ const RING_BUDGET_SHARE: f64 = 0.5;
 pub(crate) fn intervals(vsm: &Vsm, alpha: f32, reserved: usize) -> [f64; 3] {
     let size = vsm.size();
     let budget = size.area() as f64 / (alpha as f64 * alpha as f64);
+    let cell_area = (vsm.scale() * vsm.scale()) as usize;
     let mut count = [0usize; 3];
     for &v in vsm.values() {
-        count[SaliencyLevel::of(v).index()] += 1;
+        count[SaliencyLevel::of(v).index()] += cell_area;
     }
     let mut iv = BASE_INTERVAL.map(|b| (b * alpha as f64).max(MIN_INTERVAL_PX));
     let wanted: f64 = (0..3).map(|k| count[k] as f64 / (iv[k] * iv[k])).sum();
@@ -191,11 +192,13 @@ fn side_points(vsm: &Vsm, iv: &[f64; 3]) -> Vec<DVec2> {
     out
 }
 
-/// One point per `interval`-sized cell holding pixels of `level`: their centroid.
+/// One point per `interval`-sized cell holding pixels of `level`: their centroid (image
+/// pixels; the map may be coarser than the image).
 fn cell_centroids(vsm: &Vsm, level: SaliencyLevel, interval: f64) -> Vec<DVec2> {
-    let size = vsm.size();
-    let (w, h) = (size.width as usize, size.height as usize);
-    let cell = interval.max(1.0);
+    let grid = vsm.grid_size();
+    let sc = vsm.scale() as f64;
+    let (w, h) = (grid.width as usize, grid.height as usize);
+    let cell = (interval / sc).max(1.0); // in map cells
     let cols = ((w as f64 / cell).ceil() as usize).max(1);
     let rows = ((h as f64 / cell).ceil() as usize).max(1);
     let mut acc = vec![(0f64, 0f64, 0u32); cols * rows];
@@ -206,15 +209,16 @@ fn cell_centroids(vsm: &Vsm, level: SaliencyLevel, interval: f64) -> Vec<DVec2> 
         SaliencyLevel::Context => SaliencyLevel::Salient.lower_bound(),
         SaliencyLevel::Salient => f32::INFINITY,
     };
-    // Every second pixel in each direction is plenty to place a centroid.
+    // Every second cell in each direction is plenty to place a centroid.
     let step = if cell >= 8.0 { 2 } else { 1 };
+    let inv_cell = 1.0 / cell;
     for y in (0..h).step_by(step) {
         let row = &values[y * w..][..w];
-        let cy = ((y as f64 / cell) as usize).min(rows - 1);
+        let cy = ((y as f64 * inv_cell) as usize).min(rows - 1);
         for x in (0..w).step_by(step) {
             let v = row[x];
             if v >= lo && v < hi {
-                let cx = ((x as f64 / cell) as usize).min(cols - 1);
+                let cx = ((x as f64 * inv_cell) as usize).min(cols - 1);
                 let a = &mut acc[cy * cols + cx];
                 a.0 += x as f64 + 0.5;
                 a.1 += y as f64 + 0.5;
@@ -225,7 +229,7 @@ fn cell_centroids(vsm: &Vsm, level: SaliencyLevel, interval: f64) -> Vec<DVec2> 
     let min_count = (((cell * cell) / (step * step) as f64) * 0.02).max(1.0) as u32;
     acc.iter()
         .filter(|a| a.2 >= min_count)
-        .map(|a| DVec2::new(a.0 / a.2 as f64, a.1 / a.2 as f64))
+        .map(|a| DVec2::new(a.0 / a.2 as f64 * sc, a.1 / a.2 as f64 * sc))
         .collect()
 }
 
@@ -368,6 +372,33 @@ mod tests {
         }
         // And the background stays sparse.
         assert!(mesh.vertices().len() < 150, "{}", mesh.vertices().len());
+    }
+
+    /// On a frame large enough for a half-resolution map, a 6-px dot is still a mark with its
+    /// ring, placed where the dot is.
+    #[test]
+    fn a_small_dot_on_a_large_frame_gets_a_ring() {
+        let size = Size::new(1400, 800).unwrap();
+        let mut img = Image::filled(size, [255; 4]);
+        let c = DVec2::new(700.0, 413.0);
+        for y in 400..426u32 {
+            for x in 687..714u32 {
+                if DVec2::new(x as f64 + 0.5, y as f64 + 0.5).distance(c) <= 3.0 {
+                    img.set(x, y, [215, 25, 28, 255]);
+                }
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        assert_eq!(vsm.scale(), 2);
+        assert!(vsm.get(700, 413) > 0.5);
+        let mesh = Mesh::build(&vsm, &MeshOptions::default());
+        assert_eq!(mesh.marks().len(), 1);
+        assert!(
+            mesh.marks()[0].center.distance(c) < 1.5,
+            "{:?}",
+            mesh.marks()[0]
+        );
+        assert!(count_near(&mesh, c, 12.0) >= 9, "ring + centre");
     }
 
     #[test]

@@ -22,6 +22,9 @@ pub use second_region::BINS as HISTOGRAM_BINS;
 
 use crate::image::{ImageRef, Size};
 
+/// Frames with more pixels than this get a map at half resolution.
+pub const FULL_RESOLUTION_MAX_PX: usize = 600_000;
+
 /// `S_m` divisor floor, in Lab units (ΔE 20: a clearly visible difference).
 const IMPORTANCE_FLOOR: f32 = 20.0;
 /// Sobel divisor floor: a step of ΔL = 25 (Sobel gain 4).
@@ -46,10 +49,17 @@ pub struct VsmNorm {
     pub final_div: f32,
 }
 
-/// A visual saliency map: one value in `[0, 1]` per pixel, plus the parts later stages use.
+/// A visual saliency map: one value in `[0, 1]` per map cell, plus the parts later stages use.
+///
+/// The map covers the image at `scale` image pixels per cell along each axis (1, or 2 for
+/// frames above [`FULL_RESOLUTION_MAX_PX`]): the mesh it guides has key points 10 px apart or
+/// more, and a 6-px dot is still 3 cells, while the saliency passes and everything that reads
+/// the map cost a quarter.
 #[derive(Clone, Debug)]
 pub struct Vsm {
     size: Size,
+    grid: Size,
+    scale: u32,
     values: Vec<f32>,
     importance: Vec<f32>,
     edges: Vec<f32>,
@@ -57,11 +67,22 @@ pub struct Vsm {
 }
 
 impl Vsm {
+    /// The image (canvas) size the map covers.
     pub fn size(&self) -> Size {
         self.size
     }
 
-    /// `S_vsm`, row-major, each in `[0, 1]`.
+    /// The map's own resolution: the dimensions of [`Vsm::values`] and the other planes.
+    pub fn grid_size(&self) -> Size {
+        self.grid
+    }
+
+    /// Image pixels per map cell along each axis.
+    pub fn scale(&self) -> u32 {
+        self.scale
+    }
+
+    /// `S_vsm`, row-major over [`Vsm::grid_size`], each in `[0, 1]`.
     pub fn values(&self) -> &[f32] {
         &self.values
     }
@@ -82,13 +103,17 @@ impl Vsm {
         self.norm.as_deref()
     }
 
-    /// Saliency at a pixel.
+    /// Saliency at an image pixel.
     #[inline]
     pub fn get(&self, x: u32, y: u32) -> f32 {
-        self.values[y as usize * self.size.width as usize + x as usize]
+        let (gx, gy) = (
+            (x / self.scale).min(self.grid.width - 1),
+            (y / self.scale).min(self.grid.height - 1),
+        );
+        self.values[gy as usize * self.grid.width as usize + gx as usize]
     }
 
-    /// Saliency level at a pixel.
+    /// Saliency level at an image pixel.
     #[inline]
     pub fn level(&self, x: u32, y: u32) -> SaliencyLevel {
         SaliencyLevel::of(self.get(x, y))
@@ -103,6 +128,8 @@ impl Vsm {
         let values: Vec<f32> = values.into_iter().map(|v| v.clamp(0.0, 1.0)).collect();
         Some(Vsm {
             size,
+            grid: size,
+            scale: 1,
             importance: values.clone(),
             edges: values.clone(),
             values,
@@ -151,6 +178,7 @@ pub struct VsmBuilder {
     dilated: Vec<f32>,
     crop: Vec<[u8; 4]>,
     lab_only: bool,
+    full_resolution: bool,
 }
 
 impl VsmBuilder {
@@ -167,10 +195,29 @@ impl VsmBuilder {
         }
     }
 
+    /// A builder that always maps at full resolution, whatever the frame size.
+    pub fn full_resolution() -> VsmBuilder {
+        VsmBuilder {
+            full_resolution: true,
+            ..VsmBuilder::default()
+        }
+    }
+
+    /// Image pixels per map cell for a frame of `size`.
+    pub fn scale_for(&self, size: Size) -> u32 {
+        if self.full_resolution || size.area() <= FULL_RESOLUTION_MAX_PX {
+            1
+        } else {
+            2
+        }
+    }
+
     /// The VSM of `image`. Deterministic: the same pixels give the same map.
     pub fn build(&mut self, image: ImageRef<'_>) -> Vsm {
         let mut vsm = Vsm {
             size: image.size(),
+            grid: image.size(),
+            scale: 1,
             values: Vec::new(),
             importance: Vec::new(),
             edges: Vec::new(),
@@ -183,48 +230,69 @@ impl VsmBuilder {
     /// Like [`VsmBuilder::build`], reusing the planes of `vsm` (no allocation once warm).
     pub fn build_into(&mut self, image: ImageRef<'_>, vsm: &mut Vsm) {
         let size = image.size();
-        let n = size.area();
+        let scale = self.scale_for(size);
+        let grid = grid_of(size, scale);
         for p in [&mut vsm.values, &mut vsm.importance, &mut vsm.edges] {
-            p.resize(n, 0.0);
+            p.resize(grid.area(), 0.0);
         }
+        let mut crop = std::mem::take(&mut self.crop);
+        let cref = if scale == 1 {
+            image
+        } else {
+            downsample(
+                image,
+                Rect {
+                    x0: 0,
+                    y0: 0,
+                    x1: grid.width,
+                    y1: grid.height,
+                },
+                scale,
+                &mut crop,
+            );
+            ImageRef::new(grid, &crop).expect("grid size")
+        };
         let norm = self.run(
-            image,
+            cref,
             None,
             &mut vsm.values,
             &mut vsm.importance,
             &mut vsm.edges,
         );
+        self.crop = crop;
         vsm.size = size;
+        vsm.grid = grid;
+        vsm.scale = scale;
         vsm.norm = Some(Box::new(norm));
     }
 
-    /// Recomputes `vsm` inside `rect` from `image` (a later frame of the same size), with the
-    /// constants `vsm` was built with: the result inside `rect` equals what a full build with
-    /// those constants would give. Maps without constants, or of another size, are rebuilt.
+    /// Recomputes `vsm` inside `rect` (image pixels) from `image`, a later frame of the same
+    /// size, with the constants `vsm` was built with: inside the rect's map cells the result
+    /// equals what a full build with those constants would give. Maps without constants, or of
+    /// another size, are rebuilt.
     pub fn update_region(&mut self, image: ImageRef<'_>, vsm: &mut Vsm, rect: Rect) {
         let size = image.size();
         let Some(norm) = vsm.norm.clone().filter(|_| vsm.size == size) else {
             self.build_into(image, vsm);
             return;
         };
+        let (s, grid) = (vsm.scale, vsm.grid);
+        // The rect in map cells (covering every cell it touches).
         let rect = Rect {
-            x0: rect.x0.min(size.width),
-            y0: rect.y0.min(size.height),
-            x1: rect.x1.min(size.width),
-            y1: rect.y1.min(size.height),
+            x0: (rect.x0 / s).min(grid.width),
+            y0: (rect.y0 / s).min(grid.height),
+            x1: rect.x1.div_ceil(s).min(grid.width),
+            y1: rect.y1.div_ceil(s).min(grid.height),
         };
         if rect.is_empty() {
             return;
         }
-        // Blur and Sobel reach 1 px, the dilation 3 more: a margin of 5 makes the inner rect
+        // Blur and Sobel reach 1 cell, the dilation 3 more: a margin of 5 makes the inner rect
         // independent of the crop's borders.
-        let outer = rect.grow(DILATION_RADIUS as u32 + 2, size);
+        let outer = rect.grow(DILATION_RADIUS as u32 + 2, grid);
         let (ow, oh) = (outer.width() as usize, outer.height() as usize);
         let mut crop = std::mem::take(&mut self.crop);
-        crop.clear();
-        for row in image.rows().skip(outer.y0 as usize).take(oh) {
-            crop.extend_from_slice(&row[outer.x0 as usize..outer.x1 as usize]);
-        }
+        downsample(image, outer, s, &mut crop);
         let csize = Size {
             width: ow as u32,
             height: oh as u32,
@@ -235,7 +303,7 @@ impl VsmBuilder {
             p.resize(ow * oh, 0.0);
         }
         self.run(cref, Some(&norm), &mut v, &mut i, &mut e);
-        let w = size.width as usize;
+        let w = grid.width as usize;
         for y in rect.y0..rect.y1 {
             let cy = (y - outer.y0) as usize;
             let (cx0, cx1) = ((rect.x0 - outer.x0) as usize, (rect.x1 - outer.x0) as usize);
@@ -306,6 +374,101 @@ impl VsmBuilder {
             edge_div,
             boost,
             final_div,
+        }
+    }
+}
+
+/// The map size for an image of `size` at `scale` image pixels per cell.
+fn grid_of(size: Size, scale: u32) -> Size {
+    Size {
+        width: size.width.div_ceil(scale).max(1),
+        height: size.height.div_ceil(scale).max(1),
+    }
+}
+
+/// The map cells `cells` of `image` at `scale` image pixels per cell, into `out`: each cell is
+/// the mean of its (up to) `scale × scale` pixels, composited over white first so that a
+/// half-transparent edge averages like it looks.
+fn downsample(image: ImageRef<'_>, cells: Rect, scale: u32, out: &mut Vec<[u8; 4]>) {
+    out.clear();
+    let (w, h) = (image.width(), image.height());
+    let px = image.pixels();
+    if scale == 1 {
+        for y in cells.y0..cells.y1 {
+            out.extend_from_slice(&px[(y * w + cells.x0) as usize..(y * w + cells.x1) as usize]);
+        }
+        return;
+    }
+    if scale == 2 {
+        // The common case, two rows at a time with 16-bit lanes (SWAR) for opaque quads.
+        #[inline(always)]
+        fn spread(p: [u8; 4]) -> u64 {
+            let x = u32::from_le_bytes(p) as u64;
+            (x & 0xFF) | (x & 0xFF00) << 8 | (x & 0xFF_0000) << 16
+        }
+        for cy in cells.y0..cells.y1 {
+            let ya = (2 * cy).min(h - 1) as usize;
+            let yb = (2 * cy + 1).min(h - 1) as usize;
+            let (ra, rb) = (
+                &px[ya * w as usize..][..w as usize],
+                &px[yb * w as usize..][..w as usize],
+            );
+            for cx in cells.x0..cells.x1 {
+                let xa = (2 * cx).min(w - 1) as usize;
+                let xb = (2 * cx + 1).min(w - 1) as usize;
+                let q = [ra[xa], ra[xb], rb[xa], rb[xb]];
+                if q.iter().all(|p| p[3] == 255) {
+                    let sum = spread(q[0])
+                        + spread(q[1])
+                        + spread(q[2])
+                        + spread(q[3])
+                        + 0x0002_0002_0002;
+                    let m = sum >> 2;
+                    out.push([
+                        (m & 0xFF) as u8,
+                        (m >> 16 & 0xFF) as u8,
+                        (m >> 32 & 0xFF) as u8,
+                        255,
+                    ]);
+                } else {
+                    let mut sum = [0u32; 3];
+                    for p in q {
+                        let a = p[3] as u32;
+                        for k in 0..3 {
+                            sum[k] += (p[k] as u32 * a + 255 * (255 - a) + 127) / 255;
+                        }
+                    }
+                    let c = sum.map(|v| ((v + 2) / 4) as u8);
+                    out.push([c[0], c[1], c[2], 255]);
+                }
+            }
+        }
+        return;
+    }
+    for cy in cells.y0..cells.y1 {
+        let (y0, y1) = (cy * scale, ((cy + 1) * scale).min(h));
+        for cx in cells.x0..cells.x1 {
+            let (x0, x1) = (cx * scale, ((cx + 1) * scale).min(w));
+            let mut sum = [0u32; 3];
+            let mut n = 0u32;
+            for y in y0..y1 {
+                for &p in &px[(y * w + x0) as usize..(y * w + x1) as usize] {
+                    let a = p[3] as u32;
+                    if a == 255 {
+                        for k in 0..3 {
+                            sum[k] += p[k] as u32;
+                        }
+                    } else {
+                        for k in 0..3 {
+                            sum[k] += (p[k] as u32 * a + 255 * (255 - a) + 127) / 255;
+                        }
+                    }
+                    n += 1;
+                }
+            }
+            let n = n.max(1);
+            let c = sum.map(|v| ((v + n / 2) / n) as u8);
+            out.push([c[0], c[1], c[2], 255]);
         }
     }
 }

@@ -31,21 +31,21 @@ const MAX_GAP_PX: u32 = 8;
 
 /// Pixels a line must keep for its marks: the marks themselves and the gaps shorter than
 /// [`MAX_GAP_PX`] between them (a dense cluster of dots is one block, not its dots alone).
-fn extent(line: impl Iterator<Item = bool>) -> u32 {
+fn extent(line: impl Iterator<Item = bool>, max_gap: u32) -> u32 {
     let mut total = 0u32;
     let mut gap: Option<u32> = None; // None before the first mark
     for on in line {
-        extent_step(&mut total, &mut gap, on);
+        extent_step(&mut total, &mut gap, on, max_gap);
     }
     total
 }
 
 /// One pixel of [`extent`].
 #[inline]
-fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool) {
+fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool, max_gap: u32) {
     if on {
         if let Some(g) = *gap {
-            if g < MAX_GAP_PX {
+            if g < max_gap {
                 *total += g;
             }
         }
@@ -58,8 +58,12 @@ fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool) {
 
 /// The scale salient content should keep: in `[min(w'/w, h'/h), 1]`.
 pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 {
-    let size = vsm.size();
-    let (w, h) = (size.width as usize, size.height as usize);
+    let grid = vsm.grid_size();
+    let sc = vsm.scale() as usize;
+    let (w, h) = (grid.width as usize, grid.height as usize);
+    // Pixel lengths in map cells.
+    let min_thickness = MIN_THICKNESS_PX.div_ceil(sc);
+    let max_gap = MAX_GAP_PX.div_ceil(sc as u32);
     let imp = vsm.importance();
     // Row widths: mark pixels in vertical runs of at least MIN_THICKNESS_PX. A pixel's run
     // is known when the run ends, so rows are filled in per column run, walking rows in order
@@ -73,7 +77,7 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
                 continue;
             }
             let len = run[x] as usize;
-            if len >= MIN_THICKNESS_PX {
+            if len >= min_thickness {
                 for yy in y - len..y {
                     thick_v[yy * w + x] = true;
                 }
@@ -83,7 +87,7 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
     }
     let mut rows: Vec<u32> = thick_v
         .chunks_exact(w)
-        .map(|r| extent(r.iter().copied()))
+        .map(|r| extent(r.iter().copied(), max_gap) * sc as u32)
         .collect();
     // Column heights: mark pixels in horizontal runs of at least as many, with the gap logic
     // of `extent` run per column through per-column state.
@@ -97,12 +101,12 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
                 len += 1;
                 continue;
             }
-            let thick = len >= MIN_THICKNESS_PX;
+            let thick = len >= min_thickness;
             for xx in x - len..x {
-                extent_step(&mut cols[xx], &mut gap[xx], thick);
+                extent_step(&mut cols[xx], &mut gap[xx], thick, max_gap);
             }
             if x < w {
-                extent_step(&mut cols[x], &mut gap[x], false);
+                extent_step(&mut cols[x], &mut gap[x], false, max_gap);
             }
             len = 0;
         }
@@ -112,7 +116,8 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
         let i = ((v.len() as f64 - 1.0) * PERCENTILE).round() as usize;
         v[i.min(v.len() - 1)] as f64
     };
-    let (rw, ch) = (pct(&mut rows), pct(&mut cols));
+    // Both in image pixels (rows were scaled when counted).
+    let (rw, ch) = (pct(&mut rows), pct(&mut cols) * sc as f64);
     let (tw, th) = (target.width as f64, target.height as f64);
     let fit_x = if rw > 0.0 {
         FILL * tw / rw
@@ -124,7 +129,8 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
     } else {
         f64::INFINITY
     };
-    let linear = (tw / w as f64).min(th / h as f64);
+    let size = vsm.size();
+    let linear = (tw / size.width as f64).min(th / size.height as f64);
     fit_x.min(fit_y).min(1.0).max(linear.min(1.0))
 }
 
@@ -136,7 +142,7 @@ mod tests {
 
     #[test]
     fn extent_closes_small_gaps_only() {
-        let line = |s: &str| extent(s.chars().map(|c| c == '#'));
+        let line = |s: &str| extent(s.chars().map(|c| c == '#'), MAX_GAP_PX);
         assert_eq!(line("..###..."), 3);
         assert_eq!(line("###....###"), 10);
         assert_eq!(line("###...........###"), 6);

@@ -8,13 +8,15 @@ use crate::saliency::Vsm;
 /// `λ_t` for every triangle of `mesh`, into `out`. A triangle too small to hold a pixel centre
 /// takes the value at its centroid.
 pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, out: &mut Vec<f64>) {
-    let size = vsm.size();
-    let (w, h) = (size.width, size.height);
+    let grid = vsm.grid_size();
+    let (w, h) = (grid.width, grid.height);
+    let inv = 1.0 / vsm.scale() as f64;
     let values = vsm.values();
     out.clear();
     out.reserve(mesh.triangles().len());
     for t in 0..mesh.triangles().len() {
-        let p = mesh.triangle_points(t);
+        // In map cells.
+        let p = mesh.triangle_points(t).map(|q| q * inv);
         let fp = p.map(|q| FixedPoint::from_f64(q.x, q.y));
         let mut sum = 0.0f64;
         let mut n = 0u32;
@@ -25,9 +27,9 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, out: &mut Vec<f64>) {
         });
         if n == 0 {
             let c = (p[0] + p[1] + p[2]) / 3.0;
-            let x = (c.x as u32).min(w - 1);
-            let y = (c.y as u32).min(h - 1);
-            out.push(vsm.get(x, y) as f64);
+            let x = (c.x as usize).min(w as usize - 1);
+            let y = (c.y as usize).min(h as usize - 1);
+            out.push(values[y * w as usize + x] as f64);
         } else {
             out.push(sum / n as f64);
         }
