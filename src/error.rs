@@ -42,9 +42,23 @@ pub enum Error {
     #[error("no frames in {}", .0.display())]
     NoFrames(PathBuf),
 
-    /// A stage stopped because another one failed or the run was cancelled.
+    /// A stage stopped because another one failed.
     #[error("aborted")]
     Aborted,
+
+    /// The reader of the output went away (a closed pipe, `| head`): nothing more can be
+    /// written, which for a stream is a normal way to end.
+    #[error("the output was closed by its reader")]
+    OutputClosed,
+
+    /// The input ended inside a frame: `got` of `expected` bytes of frame `frame_index`.
+    #[error("{}: frame {frame_index} is incomplete: {got} of {expected} bytes", path.display())]
+    TruncatedFrame {
+        path: PathBuf,
+        frame_index: u64,
+        expected: usize,
+        got: usize,
+    },
 }
 
 impl Error {

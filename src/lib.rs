@@ -28,6 +28,7 @@ pub mod mesh;
 pub mod render;
 pub mod saliency;
 pub mod solve;
+pub mod stream;
 
 pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
@@ -38,3 +39,4 @@ pub use retargeter::{
 };
 pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
 pub use solve::{EnergyParams, SolveStats, Solver, Warp};
+pub use stream::{Decision, FrameSink, FrameSource, Pipeline, Repeat, RunSummary};

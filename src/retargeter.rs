@@ -120,6 +120,10 @@ pub struct FrameStats {
     pub dof: usize,
     pub solve: SolveStats,
     pub times: StageTimes,
+    /// What the reuse policy did with this frame.
+    pub decision: crate::stream::Decision,
+    /// Position in the stream.
+    pub frame_index: u64,
 }
 
 /// The intermediate results of one frame, kept when [`Options::keep_analysis`] is set.
@@ -232,6 +236,8 @@ impl Retargeter {
             dof: mesh.dof(),
             solve,
             times,
+            decision: crate::stream::Decision::Rebuild,
+            frame_index: frame.frame_index,
         };
         let analysis = self.options.keep_analysis.then(|| Analysis {
             vsm: Arc::new(vsm),
