@@ -6,9 +6,10 @@
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::{Mesh, MeshOptions};
-use crate::render::Renderer;
-use crate::saliency::{Vsm, VsmBuilder};
-use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
+use crate::saliency::Vsm;
+use crate::solve::{EnergyParams, SolveStats, Warp};
+use crate::stream::stages::{MeshStage, RenderStage, SaliencyStage, SolveStage};
+use crate::stream::{Decision, ReuseOptions};
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::Instant;
@@ -24,6 +25,8 @@ pub struct Options {
     /// Keep the VSM, mesh and warp of each frame in [`Retargeted::analysis`] (for pictures and
     /// metrics; costs memory).
     pub keep_analysis: bool,
+    /// When a stream may reuse the previous frame's mesh and solution.
+    pub reuse: ReuseOptions,
 }
 
 impl Default for Options {
@@ -32,6 +35,7 @@ impl Default for Options {
             alpha: 20.0,
             energy: EnergyParams::default(),
             keep_analysis: false,
+            reuse: ReuseOptions::default(),
         }
     }
 }
@@ -71,6 +75,19 @@ impl Options {
                     "{name} {v} is out of range: allowed {lo} to {hi}"
                 )));
             }
+        }
+        let r = &self.reuse;
+        if !(4..=1024).contains(&r.tile_px) {
+            return Err(Error::InvalidOptions(format!(
+                "reuse tile {} px is out of range: allowed 4 to 1024",
+                r.tile_px
+            )));
+        }
+        if !(0.0..=1.0).contains(&r.tile_threshold) || !(0.0..=1.0).contains(&r.rebuild_fraction) {
+            return Err(Error::InvalidOptions(format!(
+                "reuse thresholds {} and {} are out of range: allowed 0 to 1",
+                r.tile_threshold, r.rebuild_fraction
+            )));
         }
         Ok(())
     }
@@ -121,7 +138,9 @@ pub struct FrameStats {
     pub solve: SolveStats,
     pub times: StageTimes,
     /// What the reuse policy did with this frame.
-    pub decision: crate::stream::Decision,
+    pub decision: Decision,
+    /// Tiles whose key points were re-sampled ([`Decision::Update`]).
+    pub updated_tiles: usize,
     /// Position in the stream.
     pub frame_index: u64,
 }
@@ -153,13 +172,15 @@ pub enum Status {
     Done,
 }
 
-/// Retargets frames to one target size, in order.
+/// Retargets frames to one target size, in order, reusing the previous frame's mesh and
+/// solution while the saliency barely changes (see [`ReuseOptions`]).
 pub struct Retargeter {
     target: Size,
     options: Options,
-    vsm: VsmBuilder,
-    solver: Solver,
-    renderer: Renderer,
+    saliency: SaliencyStage,
+    mesh: MeshStage,
+    solve: SolveStage,
+    render: RenderStage,
     ready: VecDeque<Retargeted>,
     flushed: bool,
 }
@@ -171,10 +192,16 @@ impl Retargeter {
         options.validate()?;
         Ok(Retargeter {
             target,
-            solver: Solver::new(options.energy.clone()),
+            saliency: SaliencyStage::new(options.reuse.clone()),
+            mesh: MeshStage::new(
+                MeshOptions {
+                    alpha: options.alpha,
+                },
+                options.reuse.clone(),
+            ),
+            solve: SolveStage::new(options.energy.clone(), target),
+            render: RenderStage::default(),
             options,
-            vsm: VsmBuilder::new(),
-            renderer: Renderer::new(),
             ready: VecDeque::new(),
             flushed: false,
         })
@@ -212,45 +239,73 @@ impl Retargeter {
     fn process(&mut self, frame: Frame) -> Result<Retargeted, Error> {
         let mut times = StageTimes::default();
         let t0 = Instant::now();
-        let vsm = self.vsm.build(frame.image.as_ref());
+        let sal = self.saliency.run(&frame.image);
         let t1 = Instant::now();
         times.vsm_ms = ms(t0, t1);
-        let mesh = Mesh::build(
-            &vsm,
-            &MeshOptions {
-                alpha: self.options.alpha,
-            },
-        );
+        let meshed = self.mesh.run(&sal);
         let t2 = Instant::now();
         times.mesh_ms = ms(t1, t2);
-        let (warp, solve) = self.solver.solve(&mesh, &vsm, self.target)?;
+        let solved = self.solve.run(&sal.vsm, &meshed)?;
         let t3 = Instant::now();
         times.solve_ms = ms(t2, t3);
-        let mut image = Image::new(self.target);
-        self.renderer
-            .render(frame.image.as_ref(), &mesh, &warp, &mut image);
+        let image = self.render.run(
+            &frame.image,
+            &meshed.mesh,
+            &solved.warp,
+            &sal.dirty,
+            solved.decision,
+        );
         times.render_ms = ms(t3, Instant::now());
-        let stats = FrameStats {
-            vertices: mesh.vertices().len(),
-            triangles: mesh.triangles().len(),
-            dof: mesh.dof(),
-            solve,
-            times,
-            decision: crate::stream::Decision::Rebuild,
-            frame_index: frame.frame_index,
-        };
-        let analysis = self.options.keep_analysis.then(|| Analysis {
-            vsm: Arc::new(vsm),
-            mesh: Arc::new(mesh),
-            warp: Arc::new(warp),
-        });
-        Ok(Retargeted {
+        let tiles = meshed.region.count();
+        Ok(finish(
+            frame,
             image,
-            frame_index: frame.frame_index,
-            duration_ms: frame.duration_ms,
-            stats,
-            analysis,
-        })
+            sal.vsm,
+            meshed.mesh,
+            solved,
+            tiles,
+            times,
+            self.options.keep_analysis,
+        ))
+    }
+}
+
+/// The output record of one frame.
+pub(crate) fn finish(
+    frame: Frame,
+    image: Image,
+    vsm: Arc<Vsm>,
+    mesh: Arc<Mesh>,
+    solved: crate::stream::stages::Solved,
+    region_tiles: usize,
+    times: StageTimes,
+    keep_analysis: bool,
+) -> Retargeted {
+    let stats = FrameStats {
+        vertices: mesh.vertices().len(),
+        triangles: mesh.triangles().len(),
+        dof: mesh.dof(),
+        solve: solved.stats,
+        times,
+        decision: solved.decision,
+        updated_tiles: if solved.decision == Decision::Update {
+            region_tiles
+        } else {
+            0
+        },
+        frame_index: frame.frame_index,
+    };
+    let analysis = keep_analysis.then(|| Analysis {
+        vsm,
+        mesh,
+        warp: solved.warp,
+    });
+    Retargeted {
+        image,
+        frame_index: frame.frame_index,
+        duration_ms: frame.duration_ms,
+        stats,
+        analysis,
     }
 }
 

@@ -6,10 +6,12 @@
 //! * [`sampling`]: the per-level lattices under the `α` budget (Eq. 7), corners and sides;
 //! * [`triangulate`]: Delaunay by `spade`, plus the topology the solver needs.
 
+mod incremental;
 mod marks;
 mod sampling;
 mod triangulate;
 
+pub use incremental::{IncrementalMesh, TileMask};
 pub use marks::Mark;
 pub use sampling::{KeyPoint, KeyPointKind};
 
@@ -85,6 +87,9 @@ impl Default for MeshOptions {
 pub struct Mesh {
     size: Size,
     vertices: Vec<DVec2>,
+    /// A stable identity per vertex: a vertex kept by an incremental update keeps its id, so
+    /// the solver can carry its solved position over and the renderer can tell what changed.
+    ids: Vec<u64>,
     boundary: Vec<Boundary>,
     triangles: Vec<[u32; 3]>,
     /// `neighbours[t][i]`: the triangle across the edge opposite vertex `i`, or [`NONE`].
@@ -124,11 +129,24 @@ impl Mesh {
                 .map(|p| DVec2::new(snap(p.x.clamp(0.0, w)), snap(p.y.clamp(0.0, h)))),
         );
         let (vertices, triangles) = triangulate::delaunay(&pts);
+        let ids = (0..vertices.len() as u64).collect();
+        Mesh::from_parts(size, vertices, ids, triangles, marks)
+    }
+
+    /// Assembles a mesh from triangulated parts (triangles positively oriented).
+    pub(crate) fn from_parts(
+        size: Size,
+        vertices: Vec<DVec2>,
+        ids: Vec<u64>,
+        triangles: Vec<[u32; 3]>,
+        marks: Vec<Mark>,
+    ) -> Mesh {
         let boundary = vertices.iter().map(|&p| Boundary::of(p, size)).collect();
         let neighbours = triangulate::neighbours(&triangles, vertices.len());
         Mesh {
             size,
             vertices,
+            ids,
             boundary,
             triangles,
             neighbours,
@@ -154,6 +172,10 @@ impl Mesh {
     /// Vertex positions on the source canvas.
     pub fn vertices(&self) -> &[DVec2] {
         &self.vertices
+    }
+    /// Stable vertex ids (see [`IncrementalMesh`]).
+    pub fn ids(&self) -> &[u64] {
+        &self.ids
     }
     /// Boundary constraint per vertex.
     pub fn boundary(&self) -> &[Boundary] {

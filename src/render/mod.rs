@@ -12,7 +12,7 @@ mod sample;
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;
-use crate::raster::{rasterize, FixedPoint};
+use crate::raster::{rasterize, snap, FixedPoint};
 use crate::solve::Warp;
 use glam::DVec2;
 use sample::Texels;
@@ -20,6 +20,19 @@ use sample::Texels;
 /// Minification (texels per output pixel) from which a footprint is box-filtered with taps
 /// (after the ripmap level has reduced it).
 const BOX_FILTER_FROM: f64 = 1.25;
+/// A triangle whose inverse map is within this of the identity on the diagonal (magnifying by
+/// at most ~10 %), with shear below [`CRISP_SHEAR`], is copied pixel for pixel.
+const CRISP_TOLERANCE: f64 = 0.15;
+/// Minification allowed for the copy: a rounding allowance, not a scale.
+const CRISP_SLACK: f64 = 0.002;
+/// Shear allowed for the copy.
+const CRISP_SHEAR: f64 = 0.05;
+/// A mark's fan triangle whose inverse map is within this of the identity (diagonal) is copied
+/// rigidly; the mark then keeps its exact shape, and the small mismatch is absorbed at the
+/// fan's rim, which lies in the background around the mark.
+const RIGID_TOLERANCE: f64 = 0.15;
+/// Shear allowed for a rigid copy.
+const RIGID_SHEAR: f64 = 0.1;
 /// Most taps along one axis of the footprint.
 const MAX_TAPS: usize = 8;
 
@@ -46,6 +59,26 @@ impl Renderer {
         if dst.size() != target {
             *dst = Image::new(target);
         }
+        self.render_partial(src, mesh, warp, dst, &|_, _| false);
+    }
+
+    /// Like [`Renderer::render`], but `dst` already holds the previous frame's output and a
+    /// triangle `t` for which `keep(t, reach)` is true keeps its pixels there. `reach` is the
+    /// source rectangle `[x0, y0, x1, y1]` its samples read (its bounding box grown by the
+    /// filter's reach): a caller keeps a triangle whose deformed shape did not change and
+    /// whose reach holds no changed source pixel, and the result equals a full render.
+    pub fn render_partial(
+        &mut self,
+        src: ImageRef<'_>,
+        mesh: &Mesh,
+        warp: &Warp,
+        dst: &mut Image,
+        keep: &dyn Fn(usize, [f64; 4]) -> bool,
+    ) {
+        let target = warp.target();
+        if dst.size() != target {
+            *dst = Image::new(target);
+        }
         let opaque = src.pixels().iter().all(|p| p[3] == 255);
         self.ripmap.clear(opaque);
         let ripmap = &mut self.ripmap;
@@ -53,6 +86,7 @@ impl Renderer {
         let twu = tw as usize;
         let out = dst.pixels_mut();
         let offsets = &mut self.offsets;
+        let rigid = rigid_offsets(mesh, warp);
         for (t, tri) in mesh.triangles().iter().enumerate() {
             let q: [DVec2; 3] = tri.map(|v| warp.positions()[v as usize]);
             let fq = q.map(|p| FixedPoint::from_f64(p.x, p.y));
@@ -101,12 +135,52 @@ impl Renderer {
                 .iter()
                 .fold(0f32, |r, &(a, b)| r.max(a.abs()).max(b.abs()));
             let margin = (reach as f64 + 2.0) * kx.max(ky);
+            let lo = p[0].min(p[1]).min(p[2]) - DVec2::splat(margin);
+            let hi = p[0].max(p[1]).max(p[2]) + DVec2::splat(margin);
+            if keep(t, [lo.x, lo.y, hi.x, hi.y]) {
+                continue;
+            }
+            // A small mark's fan, carried at about its own size: an exact copy shifted by whole
+            // pixels (the mark's own shape, crisp, and moving in whole pixels in a stream).
+            let near_identity = (1.0 - RIGID_TOLERANCE..=1.0 + RIGID_TOLERANCE).contains(&m[0][0])
+                && (1.0 - RIGID_TOLERANCE..=1.0 + RIGID_TOLERANCE).contains(&m[1][1])
+                && m[0][1].abs() < RIGID_SHEAR
+                && m[1][0].abs() < RIGID_SHEAR;
+            let rigid_offset = if near_identity {
+                tri.iter().find_map(|&v| rigid.get(&v).copied())
+            } else {
+                None
+            };
+            if let Some((dx, dy)) = rigid_offset {
+                let (sw, sh) = (src.width() as i64, src.height() as i64);
+                let px = src.pixels();
+                rasterize(fq, tw, th, |y, x0, x1| {
+                    let sy = (y as i64 - dy).clamp(0, sh - 1) as usize;
+                    let row = &mut out[y as usize * twu..][x0 as usize..x1 as usize];
+                    for (i, o) in row.iter_mut().enumerate() {
+                        let sx = (x0 as i64 + i as i64 - dx).clamp(0, sw - 1) as usize;
+                        *o = px[sy * sw as usize + sx];
+                    }
+                });
+                continue;
+            }
             if let Some(c) = uniform_colour(&src, p, margin) {
                 rasterize(fq, tw, th, |y, x0, x1| {
                     out[y as usize * twu..][x0 as usize..x1 as usize].fill(c);
                 });
                 continue;
             }
+            // Content carried at its own size (marks and text that keep their scale) is copied
+            // pixel for pixel: bilinear would blur every edge by a fraction of a pixel, soften
+            // 1-px lines and make a moving mark's whole outline flicker.
+            // Only where the map magnifies or keeps size: nearest sampling never skips a source
+            // pixel there, so a 1-px line cannot vanish (at most one is doubled).
+            let crisp = lx == 0
+                && ly == 0
+                && (1.0 - CRISP_TOLERANCE..=1.0 + CRISP_SLACK).contains(&m[0][0])
+                && (1.0 - CRISP_TOLERANCE..=1.0 + CRISP_SLACK).contains(&m[1][1])
+                && m[0][1].abs() < CRISP_SHEAR
+                && m[1][0].abs() < CRISP_SHEAR;
             let level = ripmap.level(src, lx, ly);
             let tex = Texels {
                 px: level.pixels(),
@@ -127,6 +201,14 @@ impl Renderer {
                 // f32 stepping along one span (≤ a triangle wide) drifts by well under 0.01 px.
                 let (mut u, mut v) = (start.x as f32, start.y as f32);
                 let (du, dv) = (du as f32, dv as f32);
+                if crisp {
+                    for px in row.iter_mut() {
+                        *px = tex.nearest(u, v);
+                        u += du;
+                        v += dv;
+                    }
+                    return;
+                }
                 match (opaque, n) {
                     (true, 1) => {
                         for px in row.iter_mut() {
@@ -163,6 +245,27 @@ impl Renderer {
             });
         }
     }
+}
+
+/// For each vertex at the centre of a small mark: the whole-pixel shift `(dx, dy)` from source
+/// to output that its fan is copied with (the rounded displacement of the centre).
+fn rigid_offsets(mesh: &Mesh, warp: &Warp) -> std::collections::HashMap<u32, (i64, i64)> {
+    let centres: std::collections::HashMap<(u64, u64), ()> = mesh
+        .marks()
+        .iter()
+        .map(|m| ((snap(m.center.x).to_bits(), snap(m.center.y).to_bits()), ()))
+        .collect();
+    let mut out = std::collections::HashMap::new();
+    if centres.is_empty() {
+        return out;
+    }
+    for (i, p) in mesh.vertices().iter().enumerate() {
+        if centres.contains_key(&(p.x.to_bits(), p.y.to_bits())) {
+            let d = warp.positions()[i] - *p;
+            out.insert(i as u32, (d.x.round() as i64, d.y.round() as i64));
+        }
+    }
+    out
 }
 
 /// The colour of every source pixel within `margin` px of the triangle's bounding box, if
@@ -279,6 +382,47 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A small mark carried at about its size is an exact copy of its source pixels, shifted
+    /// by whole pixels: its shape and colours survive untouched.
+    #[test]
+    fn small_marks_are_copied_rigidly() {
+        use crate::mesh::MeshOptions;
+        use crate::saliency::VsmBuilder;
+        use crate::solve::Solver;
+        let size = Size::new(300, 160).unwrap();
+        let mut img = Image::filled(size, [250, 250, 250, 255]);
+        let (cx, cy) = (150.3f32, 80.6f32);
+        for y in 0..160u32 {
+            for x in 0..300u32 {
+                let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+                let d2 = dx * dx + dy * dy;
+                if d2 <= 49.0 {
+                    img.set(x, y, [44, 123, 182, 255]);
+                } else if d2 <= 64.0 {
+                    img.set(x, y, [120, 170, 210, 255]); // an anti-aliased rim
+                }
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        let mesh = Mesh::build(&vsm, &MeshOptions::default());
+        assert_eq!(mesh.marks().len(), 1);
+        let target = Size::new(200, 160).unwrap();
+        let (warp, _) = Solver::default().solve(&mesh, &vsm, target).unwrap();
+        let mut out = Image::new(target);
+        Renderer::new().render(img.as_ref(), &mesh, &warp, &mut out);
+        // Find the shift that puts the mark's 17x17 block into the output exactly.
+        let block = |im: &Image, x0: i64, y0: i64| -> Vec<[u8; 4]> {
+            (0..17)
+                .flat_map(|j| (0..17).map(move |i| (x0 + i, y0 + j)))
+                .map(|(x, y)| im.get(x as u32, y as u32))
+                .collect()
+        };
+        let want = block(&img, 142, 72);
+        let found =
+            (-60i64..0).any(|dx| (-3i64..=3).any(|dy| block(&out, 142 + dx, 72 + dy) == want));
+        assert!(found, "the mark's pixels appear unchanged in the output");
     }
 
     #[test]

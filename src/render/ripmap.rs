@@ -25,7 +25,14 @@ impl Ripmap {
     /// (a faster averaging path).
     pub fn clear(&mut self, opaque: bool) {
         if self.levels.len() != LEVELS * LEVELS {
-            self.levels = (0..LEVELS * LEVELS).map(|_| Image::new(Size { width: 1, height: 1 })).collect();
+            self.levels = (0..LEVELS * LEVELS)
+                .map(|_| {
+                    Image::new(Size {
+                        width: 1,
+                        height: 1,
+                    })
+                })
+                .collect();
         }
         self.built.clear();
         self.built.resize(LEVELS * LEVELS, false);
@@ -48,9 +55,19 @@ impl Ripmap {
             return;
         }
         // Derive from the level one step back along x when possible, else along y.
-        let (px, py, along_x) = if lx > 0 { (lx - 1, ly, true) } else { (lx, ly - 1, false) };
+        let (px, py, along_x) = if lx > 0 {
+            (lx - 1, ly, true)
+        } else {
+            (lx, ly - 1, false)
+        };
         self.ensure(src, px, py);
-        let mut out = std::mem::replace(&mut self.levels[k], Image::new(Size { width: 1, height: 1 }));
+        let mut out = std::mem::replace(
+            &mut self.levels[k],
+            Image::new(Size {
+                width: 1,
+                height: 1,
+            }),
+        );
         {
             let parent = if px == 0 && py == 0 {
                 src
@@ -68,8 +85,15 @@ impl Ripmap {
 /// last one is kept as is).
 fn halve(src: ImageRef<'_>, along_x: bool, opaque: bool, out: &mut Image) {
     let (w, h) = (src.width() as usize, src.height() as usize);
-    let (nw, nh) = if along_x { (w.div_ceil(2), h) } else { (w, h.div_ceil(2)) };
-    let size = Size { width: nw as u32, height: nh as u32 };
+    let (nw, nh) = if along_x {
+        (w.div_ceil(2), h)
+    } else {
+        (w, h.div_ceil(2))
+    };
+    let size = Size {
+        width: nw as u32,
+        height: nh as u32,
+    };
     if out.size() != size {
         *out = Image::new(size);
     }

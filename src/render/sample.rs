@@ -47,6 +47,14 @@ impl Texels<'_> {
         )
     }
 
+    /// The texel whose square holds `(u, v)`.
+    #[inline(always)]
+    pub fn nearest(&self, u: f32, v: f32) -> [u8; 4] {
+        let x = (((u + 64.0) as i32) - 64).clamp(0, self.w - 1) as usize;
+        let y = (((v + 64.0) as i32) - 64).clamp(0, self.h - 1) as usize;
+        self.px[y * self.w as usize + x]
+    }
+
     /// Bilinear RGB of an opaque source as three 21-bit lanes of one `u64`, each the channel
     /// value scaled by 4096 (SWAR: one multiply per corner for all three channels).
     #[inline(always)]

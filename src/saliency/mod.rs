@@ -119,6 +119,29 @@ impl Vsm {
         SaliencyLevel::of(self.get(x, y))
     }
 
+    /// Copies the cells of `other` (same size and scale) that lie in the tiles of `mask`.
+    pub(crate) fn copy_tiles_from(&mut self, other: &Vsm, mask: &crate::mesh::TileMask) {
+        if other.size != self.size || other.scale != self.scale {
+            *self = other.clone();
+            return;
+        }
+        let s = self.scale;
+        let gw = self.grid.width as usize;
+        for [x0, y0, x1, y1] in mask.rects(self.size) {
+            let (cx0, cy0) = ((x0 / s) as usize, (y0 / s) as usize);
+            let (cx1, cy1) = (
+                (x1.div_ceil(s) as usize).min(gw),
+                (y1.div_ceil(s) as usize).min(self.grid.height as usize),
+            );
+            for y in cy0..cy1 {
+                let r = y * gw + cx0..y * gw + cx1;
+                self.values[r.clone()].copy_from_slice(&other.values[r.clone()]);
+                self.importance[r.clone()].copy_from_slice(&other.importance[r.clone()]);
+                self.edges[r.clone()].copy_from_slice(&other.edges[r]);
+            }
+        }
+    }
+
     /// A VSM from given values (clamped to `[0, 1]`), e.g. a user-painted map. Importance and
     /// edges are taken equal to the values.
     pub fn from_values(size: Size, values: Vec<f32>) -> Option<Vsm> {

@@ -48,6 +48,10 @@ pub struct EnergyParams {
     pub prior_strength: f64,
     /// `β`, the strength of scale smoothing.
     pub smoothing: f64,
+    /// `τ`, how strongly a local update holds a re-sampled vertex where the previous frame's
+    /// warp put its source position (temporal coherence: background around a moving mark
+    /// stays put; salient triangles, weighted ~1, still take the shape they need).
+    pub temporal: f64,
 }
 
 impl Default for EnergyParams {
@@ -58,6 +62,7 @@ impl Default for EnergyParams {
             prior_threshold: 0.4,
             prior_strength: 1.0,
             smoothing: 0.5,
+            temporal: 0.05,
         }
     }
 }
@@ -70,6 +75,8 @@ pub(crate) struct TriangleTerms<'a> {
     pub boost: &'a [f64],
     /// Target scale per triangle (`δ_k` of Eq. 13), usually 1.
     pub delta: &'a [f64],
+    /// Per vertex, where the temporal term pulls it (empty: no temporal term).
+    pub anchors: &'a [Option<DVec2>],
 }
 
 /// Source-shape data of one triangle, fixed for a topology.
@@ -126,9 +133,12 @@ pub(crate) fn assemble(
         .map(|(&l, &b)| weight(params, l) * b)
         .collect();
     for (t, tri) in tris.iter().enumerate() {
+        if layout.s_var[t] == FIXED {
+            continue; // all corners fixed: a constant
+        }
         let g = &geom[t];
         let c = g.area * w[t];
-        let s = layout.s_base + t;
+        let s = layout.s_var[t] as usize;
         let delta = terms.delta[t];
         // Residuals J00 − δs, J01, J10, J11 − δs.
         // x block: K[xj][xk] = c gj·gk, K[xj][s] = −c δ gj.x ; y block likewise with gj.y.
@@ -187,11 +197,29 @@ pub(crate) fn assemble(
                 continue;
             }
             let n = n as usize;
+            if layout.s_var[t] == FIXED || layout.s_var[n] == FIXED {
+                continue;
+            }
             let b = params.smoothing * 0.5 * (geom[t].area + geom[n].area) * (w[t] * w[n]).sqrt();
-            let (st, sn) = (layout.s_base + t, layout.s_base + n);
+            let (st, sn) = (layout.s_var[t] as usize, layout.s_var[n] as usize);
             entry(st, st, b);
             entry(sn, sn, b);
             entry(st, sn, -b);
+        }
+    }
+    // Temporal term: τ·|v' − anchor|² on anchored free coordinates.
+    let tau = params.temporal;
+    for (v, a) in terms.anchors.iter().enumerate() {
+        let Some(a) = a else { continue };
+        if layout.x_var[v] != FIXED {
+            let i = layout.x_var[v] as usize;
+            entry(i, i, tau);
+            rhs[i] += tau * a.x;
+        }
+        if layout.y_var[v] != FIXED {
+            let i = layout.y_var[v] as usize;
+            entry(i, i, tau);
+            rhs[i] += tau * a.y;
         }
     }
 }

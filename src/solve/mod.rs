@@ -116,6 +116,7 @@ pub struct Solver {
     lambda: Vec<f64>,
     boost: Vec<f64>,
     delta: Vec<f64>,
+    anchors: Vec<Option<DVec2>>,
     pairs: Vec<(u32, u32)>,
     rhs: Vec<f64>,
 }
@@ -151,27 +152,95 @@ impl Solver {
     ) -> Result<(Warp, SolveStats), Error> {
         weights::triangle_saliency(mesh, vsm, &mut self.lambda);
         let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
-        let delta = vec![fit; mesh.triangles().len()];
-        let (warp, mut stats) = self.solve_with(mesh, target, &delta)?;
-        stats.salient_scale = fit;
+        let layout = Layout::new(mesh, target);
+        self.anchors.clear();
+        let (mut positions, scales, mut stats, bad) = self.solve_with(mesh, layout, fit)?;
+        if !bad.is_empty() {
+            let vt = repair::VertexTriangles::new(mesh);
+            stats.untangled =
+                repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut positions);
+            let linear = linear_positions(mesh, target);
+            let (blend, global) = repair::blend_towards_linear(mesh, &vt, &linear, &mut positions);
+            stats.blend = blend;
+            stats.blend_global = global;
+        }
+        let warp = Warp {
+            target,
+            positions,
+            scales,
+        };
+        #[cfg(any(debug_assertions, feature = "sanity-checks"))]
+        assert_eq!(
+            warp.folded_triangles(mesh),
+            0,
+            "a folded triangle would reach the renderer"
+        );
         Ok((warp, stats))
     }
 
-    /// Solves with the current `λ_t` and per-triangle target scales `delta` (Eq. 13).
+    /// Solves only around what changed: vertex `i` with `fixed[i] = Some(p)` stays at `p` (its
+    /// position in the last frame's warp), the others are solved, with `salient_scale` as the
+    /// size prior's target (the value of the last full solve, so that a local update does not
+    /// change the scale of everything else). Returns `None` if folds remain after the repair
+    /// rounds: the caller then solves the whole mesh. A free vertex `i` with `anchors[i] =
+    /// Some(p)` is pulled towards `p` by the temporal term ([`EnergyParams::temporal`]).
+    pub fn solve_local(
+        &mut self,
+        mesh: &Mesh,
+        vsm: &Vsm,
+        target: Size,
+        fixed: &[Option<DVec2>],
+        anchors: &[Option<DVec2>],
+        salient_scale: f64,
+    ) -> Result<Option<(Warp, SolveStats)>, Error> {
+        weights::triangle_saliency(mesh, vsm, &mut self.lambda);
+        self.anchors.clear();
+        self.anchors.extend_from_slice(anchors);
+        let layout = Layout::with_fixed(mesh, target, fixed);
+        let (positions, scales, stats, bad) = self.solve_with(mesh, layout, salient_scale)?;
+        if !bad.is_empty() {
+            return Ok(None);
+        }
+        let warp = Warp {
+            target,
+            positions,
+            scales,
+        };
+        Ok(Some((warp, stats)))
+    }
+
+    /// Solves with the current `λ_t` on `layout`, the size prior aiming at `salient_scale`
+    /// (Eq. 13's `δ`), with the repair rounds; returns snapped positions, scales, the stats
+    /// and the triangles still folded.
     fn solve_with(
         &mut self,
         mesh: &Mesh,
-        target: Size,
-        delta: &[f64],
-    ) -> Result<(Warp, SolveStats), Error> {
+        layout: Layout,
+        salient_scale: f64,
+    ) -> Result<(Vec<DVec2>, Vec<f64>, SolveStats, Vec<usize>), Error> {
         let nt = mesh.triangles().len();
-        let mut stats = SolveStats::default();
-        self.layout = Layout::new(mesh, target);
-        let key = topology_key(mesh);
+        let mut stats = SolveStats {
+            salient_scale,
+            ..SolveStats::default()
+        };
+        self.layout = layout;
+        // The assembly's order of entries depends on the layout, the geometry and which
+        // vertices carry a temporal anchor.
+        let anchored = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            for a in &self.anchors {
+                a.is_some().hash(&mut h);
+            }
+            h.finish()
+        };
+        let key = self.layout.pattern_key(mesh)
+            ^ geometry_key(mesh).rotate_left(1)
+            ^ anchored.rotate_left(2);
         self.boost.clear();
         self.boost.resize(nt, 1.0);
         self.delta.clear();
-        self.delta.extend_from_slice(delta);
+        self.delta.resize(nt, salient_scale);
         if self.topology != Some(key) {
             self.geom = energy::geometry(mesh);
             self.pairs.clear();
@@ -181,6 +250,7 @@ impl Solver {
                 lambda: &self.lambda,
                 boost: &self.boost,
                 delta: &self.delta,
+                anchors: &self.anchors,
             };
             let pairs = &mut self.pairs;
             energy::assemble(
@@ -211,28 +281,7 @@ impl Solver {
             bad = repair::folded(mesh, &pos.0);
             stats.repair_rounds += 1;
         }
-        let (mut positions, scales) = pos;
-        if !bad.is_empty() {
-            let vt = repair::VertexTriangles::new(mesh);
-            stats.untangled =
-                repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut positions);
-            let linear = linear_positions(mesh, target);
-            let (blend, global) = repair::blend_towards_linear(mesh, &vt, &linear, &mut positions);
-            stats.blend = blend;
-            stats.blend_global = global;
-        }
-        let warp = Warp {
-            target,
-            positions,
-            scales,
-        };
-        #[cfg(any(debug_assertions, feature = "sanity-checks"))]
-        assert_eq!(
-            warp.folded_triangles(mesh),
-            0,
-            "a folded triangle would reach the renderer"
-        );
-        Ok((warp, stats))
+        Ok((pos.0, pos.1, stats, bad))
     }
 
     /// Assembles values for the current pattern, factorizes and solves; returns snapped
@@ -245,6 +294,7 @@ impl Solver {
             lambda: &self.lambda,
             boost: &self.boost,
             delta: &self.delta,
+            anchors: &self.anchors,
         };
         let system = &mut self.system;
         let mut k = 0usize;
@@ -267,7 +317,7 @@ impl Solver {
             return Err(Error::Solve("non-finite solution".into()));
         }
         let l = &self.layout;
-        let positions = (0..mesh.vertices().len())
+        let positions: Vec<DVec2> = (0..mesh.vertices().len())
             .map(|i| {
                 let x = if l.x_var[i] == FIXED {
                     l.x_fixed[i]
@@ -282,18 +332,32 @@ impl Solver {
                 DVec2::new(snap(x), snap(y))
             })
             .collect();
-        let scales = u[l.s_base..].to_vec();
+        let positions: Vec<DVec2> = positions;
+        // A triangle outside the system keeps the scale its deformed shape shows.
+        let scales = (0..mesh.triangles().len())
+            .map(|t| {
+                if l.s_var[t] != FIXED {
+                    return u[l.s_var[t] as usize];
+                }
+                let p = mesh.triangle_points(t);
+                let q = mesh.triangles()[t].map(|v| positions[v as usize]);
+                let a0 = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+                let a1 = (q[1] - q[0]).perp_dot(q[2] - q[0]);
+                (a1 / a0).max(0.0).sqrt()
+            })
+            .collect();
         Ok((positions, scales))
     }
 }
 
-/// A hash of what the sparsity pattern depends on: triangles and boundary constraints.
-fn topology_key(mesh: &Mesh) -> u64 {
+/// A hash of the source geometry (the per-triangle data kept with the pattern depends on it).
+fn geometry_key(mesh: &Mesh) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
-    mesh.triangles().hash(&mut h);
-    mesh.boundary().hash(&mut h);
-    mesh.vertices().len().hash(&mut h);
+    for p in mesh.vertices() {
+        p.x.to_bits().hash(&mut h);
+        p.y.to_bits().hash(&mut h);
+    }
     h.finish()
 }
 
@@ -379,6 +443,7 @@ mod tests {
             lambda: &solver.lambda,
             boost: &ones,
             delta: &ones,
+            anchors: &[],
         };
         let e0 = energy::energy_of(
             &mesh,

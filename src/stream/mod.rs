@@ -6,8 +6,12 @@
 //! Both give the same frames (a test checks it).
 
 mod pipeline;
+pub(crate) mod reuse;
+pub(crate) mod stages;
+mod tiles;
 
 pub use pipeline::{Pipeline, RunSummary};
+pub use reuse::ReuseOptions;
 
 use crate::error::Error;
 use crate::retargeter::{Frame, FrameStats, Retargeted};

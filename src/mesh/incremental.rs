@@ -1,0 +1,369 @@
+//! Incremental triangulation for streams: when the saliency of a few tiles changes, only the
+//! key points of those tiles are re-sampled, with `spade`'s `remove` and `insert`; every other
+//! vertex keeps its position and its id, so its solved position can be carried over.
+
+use super::marks::{find_marks, Mark};
+use super::sampling::{sample_key_points, KeyPointKind};
+use super::{Mesh, MeshOptions};
+use crate::image::Size;
+use crate::raster::snap;
+use crate::saliency::Vsm;
+use glam::DVec2;
+use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
+
+/// A set of square tiles of the canvas.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TileMask {
+    tile_px: u32,
+    cols: u32,
+    rows: u32,
+    bits: Vec<bool>,
+}
+
+impl TileMask {
+    /// An empty mask of `tile_px`-sized tiles over `size`.
+    pub fn new(size: Size, tile_px: u32) -> TileMask {
+        let tile_px = tile_px.max(1);
+        let cols = size.width.div_ceil(tile_px);
+        let rows = size.height.div_ceil(tile_px);
+        TileMask {
+            tile_px,
+            cols,
+            rows,
+            bits: vec![false; (cols * rows) as usize],
+        }
+    }
+    pub fn tile_px(&self) -> u32 {
+        self.tile_px
+    }
+    pub fn cols(&self) -> u32 {
+        self.cols
+    }
+    pub fn rows(&self) -> u32 {
+        self.rows
+    }
+    pub fn set(&mut self, col: u32, row: u32) {
+        if col < self.cols && row < self.rows {
+            self.bits[(row * self.cols + col) as usize] = true;
+        }
+    }
+    pub fn get(&self, col: u32, row: u32) -> bool {
+        col < self.cols && row < self.rows && self.bits[(row * self.cols + col) as usize]
+    }
+    /// Number of set tiles.
+    pub fn count(&self) -> usize {
+        self.bits.iter().filter(|&&b| b).count()
+    }
+    pub fn is_empty(&self) -> bool {
+        !self.bits.iter().any(|&b| b)
+    }
+    /// Share of tiles set.
+    pub fn fraction(&self) -> f64 {
+        self.count() as f64 / self.bits.len().max(1) as f64
+    }
+    /// Whether the tile holding image point `p` is set.
+    pub fn contains(&self, p: DVec2) -> bool {
+        if p.x < 0.0 || p.y < 0.0 {
+            return false;
+        }
+        let t = self.tile_px as f64;
+        // A point on a tile border belongs to both tiles.
+        let (cx, cy) = ((p.x / t).floor() as u32, (p.y / t).floor() as u32);
+        let on_x = p.x % t == 0.0 && cx > 0;
+        let on_y = p.y % t == 0.0 && cy > 0;
+        self.get(cx, cy)
+            || (on_x && self.get(cx - 1, cy))
+            || (on_y && self.get(cx, cy - 1))
+            || (on_x && on_y && self.get(cx - 1, cy - 1))
+    }
+    /// Whether any set tile meets the rectangle `[x0, x1) × [y0, y1)` (image pixels).
+    pub fn intersects(&self, x0: f64, y0: f64, x1: f64, y1: f64) -> bool {
+        let t = self.tile_px as f64;
+        let c0 = (x0 / t).floor().max(0.0) as u32;
+        let r0 = (y0 / t).floor().max(0.0) as u32;
+        let c1 = ((x1 / t).ceil().max(0.0) as u32).min(self.cols);
+        let r1 = ((y1 / t).ceil().max(0.0) as u32).min(self.rows);
+        (r0..r1).any(|r| (c0..c1).any(|c| self.get(c, r)))
+    }
+    /// This mask grown by one tile in every direction (8-neighbours).
+    pub fn dilated(&self) -> TileMask {
+        let mut out = self.clone();
+        for r in 0..self.rows {
+            for c in 0..self.cols {
+                if self.get(c, r) {
+                    for dr in -1i64..=1 {
+                        for dc in -1i64..=1 {
+                            let (cc, rr) = (c as i64 + dc, r as i64 + dr);
+                            if cc >= 0 && rr >= 0 {
+                                out.set(cc as u32, rr as u32);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+    /// Set tiles as pixel rectangles `(x0, y0, x1, y1)` clipped to `size`, runs of adjacent
+    /// tiles in a row merged.
+    pub fn rects(&self, size: Size) -> Vec<[u32; 4]> {
+        let t = self.tile_px;
+        let mut out = Vec::new();
+        for r in 0..self.rows {
+            let mut c = 0;
+            while c < self.cols {
+                if !self.get(c, r) {
+                    c += 1;
+                    continue;
+                }
+                let start = c;
+                while c < self.cols && self.get(c, r) {
+                    c += 1;
+                }
+                out.push([
+                    start * t,
+                    r * t,
+                    (c * t).min(size.width),
+                    ((r + 1) * t).min(size.height),
+                ]);
+            }
+        }
+        out
+    }
+}
+
+#[derive(Copy, Clone, Debug)]
+struct KeyVertex {
+    pos: Point2<f64>,
+    id: u64,
+}
+
+impl HasPosition for KeyVertex {
+    type Scalar = f64;
+    fn position(&self) -> Point2<f64> {
+        self.pos
+    }
+}
+
+/// A Delaunay triangulation of key points that can be updated tile by tile.
+pub struct IncrementalMesh {
+    tri: DelaunayTriangulation<KeyVertex>,
+    size: Size,
+    marks: Vec<Mark>,
+    next_id: u64,
+}
+
+impl IncrementalMesh {
+    /// Samples key points on `vsm` and triangulates them, numbering vertices from `first_id`
+    /// (ids are never reused within a stream, so a rebuilt mesh shares none with the last).
+    pub fn build(vsm: &Vsm, options: &MeshOptions, first_id: u64) -> (IncrementalMesh, Mesh) {
+        let size = vsm.size();
+        let marks = find_marks(vsm);
+        let points = sample_key_points(vsm, options.alpha, &marks);
+        let mut next_id = first_id;
+        let mut input: Vec<KeyVertex> = corners(size)
+            .into_iter()
+            .chain(points.iter().map(|k| k.pos))
+            .map(|p| {
+                let v = key(p, size, next_id);
+                next_id += 1;
+                v
+            })
+            .collect();
+        input.retain(|v| v.pos.x.is_finite() && v.pos.y.is_finite());
+        let tri = DelaunayTriangulation::bulk_load_stable(input).unwrap_or_default();
+        let inc = IncrementalMesh {
+            tri,
+            size,
+            marks,
+            next_id,
+        };
+        let mesh = inc.to_mesh();
+        (inc, mesh)
+    }
+
+    /// The next id this mesh would give a new vertex.
+    pub fn next_id(&self) -> u64 {
+        self.next_id
+    }
+
+    /// Re-samples the key points inside the tiles of `region` from `vsm` (a later frame's map):
+    /// key points sampled there that an existing vertex already has (sampling is deterministic,
+    /// so cells whose saliency did not change give the same points) keep that vertex and its
+    /// id; the other vertices there are removed and the other new points inserted. Everything
+    /// outside the region keeps its position and id. Corners never move.
+    pub fn update(&mut self, vsm: &Vsm, options: &MeshOptions, region: &TileMask) -> Mesh {
+        let size = self.size;
+        let corner_pts = corners(size);
+        // Marks of the region are replaced by those found now.
+        let fresh_marks = find_marks(vsm);
+        self.marks.retain(|m| !region.contains(m.center));
+        self.marks.extend(
+            fresh_marks
+                .into_iter()
+                .filter(|m| region.contains(m.center)),
+        );
+        // Sample with every current mark known (so their rings exclude lattice points), keep
+        // what falls in the region.
+        let points = sample_key_points(vsm, options.alpha, &self.marks);
+        let bits = |p: Point2<f64>| (p.x.to_bits(), p.y.to_bits());
+        let mut wanted: std::collections::HashMap<(u64, u64), Point2<f64>> = points
+            .iter()
+            .filter(|k| k.kind != KeyPointKind::Corner && region.contains(k.pos))
+            .map(|k| key(k.pos, size, 0).pos)
+            .map(|p| (bits(p), p))
+            .collect();
+        let doomed: Vec<Point2<f64>> = self
+            .tri
+            .vertices()
+            .map(|v| v.data().pos)
+            .filter(|p| {
+                let q = DVec2::new(p.x, p.y);
+                region.contains(q) && !corner_pts.contains(&q) && wanted.remove(&bits(*p)).is_none()
+            })
+            .collect();
+        for p in doomed {
+            let _ = self.tri.locate_and_remove(p);
+        }
+        let mut fresh: Vec<Point2<f64>> = wanted.into_values().collect();
+        // Insertion order decides nothing geometric, but keep ids deterministic.
+        fresh.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+        for pos in fresh {
+            let _ = self.tri.insert(KeyVertex {
+                pos,
+                id: self.next_id,
+            });
+            self.next_id += 1;
+        }
+        self.to_mesh()
+    }
+
+    /// The current triangulation as a [`Mesh`].
+    pub fn to_mesh(&self) -> Mesh {
+        let vertices: Vec<DVec2> = self
+            .tri
+            .vertices()
+            .map(|v| DVec2::new(v.data().pos.x, v.data().pos.y))
+            .collect();
+        let ids: Vec<u64> = self.tri.vertices().map(|v| v.data().id).collect();
+        let mut triangles = Vec::with_capacity(self.tri.num_inner_faces());
+        for f in self.tri.inner_faces() {
+            let [a, b, c] = f.vertices().map(|v| v.fix().index() as u32);
+            let area = (vertices[b as usize] - vertices[a as usize])
+                .perp_dot(vertices[c as usize] - vertices[a as usize]);
+            if area > 0.0 {
+                triangles.push([a, b, c]);
+            } else if area < 0.0 {
+                triangles.push([a, c, b]);
+            }
+        }
+        Mesh::from_parts(self.size, vertices, ids, triangles, self.marks.clone())
+    }
+}
+
+fn corners(size: Size) -> [DVec2; 4] {
+    let (w, h) = (size.width as f64, size.height as f64);
+    [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(w, 0.0),
+        DVec2::new(0.0, h),
+        DVec2::new(w, h),
+    ]
+}
+
+/// A key point clamped into the canvas and snapped to the fixed-point grid.
+fn key(p: DVec2, size: Size, id: u64) -> KeyVertex {
+    let (w, h) = (size.width as f64, size.height as f64);
+    KeyVertex {
+        pos: Point2::new(snap(p.x.clamp(0.0, w)), snap(p.y.clamp(0.0, h))),
+        id,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Image;
+    use crate::mesh::cross2;
+    use crate::saliency::VsmBuilder;
+
+    fn dots(size: Size, centres: &[(f32, f32)]) -> Image {
+        let mut img = Image::filled(size, [255; 4]);
+        for y in 0..size.height {
+            for x in 0..size.width {
+                for &(cx, cy) in centres {
+                    let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+                    if dx * dx + dy * dy <= 36.0 {
+                        img.set(x, y, [215, 25, 28, 255]);
+                    }
+                }
+            }
+        }
+        img
+    }
+
+    /// Moving one dot re-samples only its tiles: vertices elsewhere keep their ids and
+    /// positions, the moved dot gets a ring where it is now, and the mesh stays valid.
+    #[test]
+    fn local_update_keeps_everything_outside_the_region() {
+        let size = Size::new(320, 200).unwrap();
+        let a = dots(size, &[(60.0, 50.0), (250.0, 150.0), (160.0, 100.0)]);
+        let b = dots(size, &[(60.0, 50.0), (250.0, 150.0), (176.0, 100.0)]);
+        let mut builder = VsmBuilder::new();
+        let va = builder.build(a.as_ref());
+        let vb = builder.build(b.as_ref());
+        let opts = MeshOptions::default();
+        let (mut inc, before) = IncrementalMesh::build(&va, &opts, 0);
+        let mut region = TileMask::new(size, 32);
+        for (c, r) in [(4, 2), (4, 3), (5, 2), (5, 3), (6, 2), (6, 3)] {
+            region.set(c, r);
+        }
+        let after = inc.update(&vb, &opts, &region);
+        // Valid: positive areas tiling the canvas.
+        let area: f64 = (0..after.triangles().len())
+            .map(|t| cross2(after.triangle_points(t)) / 2.0)
+            .sum();
+        assert!((area - 320.0 * 200.0).abs() < 1e-6);
+        assert!((0..after.triangles().len()).all(|t| cross2(after.triangle_points(t)) > 0.0));
+        // Outside the region: same ids at the same places.
+        let old: std::collections::HashMap<u64, DVec2> = before
+            .ids()
+            .iter()
+            .copied()
+            .zip(before.vertices().iter().copied())
+            .collect();
+        let mut kept = 0;
+        for (id, p) in before.ids().iter().zip(before.vertices()) {
+            if !region.contains(*p) {
+                let i = after
+                    .ids()
+                    .iter()
+                    .position(|x| x == id)
+                    .expect("kept vertex");
+                assert_eq!(after.vertices()[i], *p);
+                kept += 1;
+            }
+        }
+        assert!(kept > 10);
+        // Inside: new ids only, and a ring around the dot's new place.
+        for (id, p) in after.ids().iter().zip(after.vertices()) {
+            if region.contains(*p) && !old.contains_key(id) {
+                assert!(*id >= before.ids().len() as u64);
+            }
+        }
+        let c = DVec2::new(176.0, 100.0);
+        let near = after
+            .vertices()
+            .iter()
+            .filter(|p| p.distance(c) < 14.0)
+            .count();
+        assert!(near >= 9, "ring around the moved dot: {near}");
+        let old_c = DVec2::new(160.0, 100.0);
+        let stale = after
+            .vertices()
+            .iter()
+            .filter(|p| p.distance(old_c) < 9.0 && p.distance(c) > 14.0)
+            .count();
+        assert_eq!(stale, 0, "no ring left where the dot was");
+    }
+}

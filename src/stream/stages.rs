@@ -1,0 +1,429 @@
+//! The four stages of the method as stateful functions, each remembering what it needs of the
+//! previous frame. The sequential [`crate::Retargeter`] calls them one after the other; the
+//! threaded [`super::Pipeline`] runs each on its own thread. Same functions, same frames.
+
+use super::reuse::{changed_saliency, ReuseOptions};
+use super::tiles::changed_tiles;
+use super::Decision;
+use crate::error::Error;
+use crate::image::{Image, Size};
+use crate::mesh::{IncrementalMesh, Mesh, MeshOptions, TileMask};
+use crate::render::Renderer;
+use crate::saliency::{Rect, Vsm, VsmBuilder};
+use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
+use glam::DVec2;
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+/// Above this share of changed tiles the VSM is recomputed whole (with fresh normalization).
+const FULL_VSM_FRACTION: f64 = 0.5;
+
+/// Stage 1: the VSM, recomputed only where pixels changed.
+pub(crate) struct SaliencyStage {
+    builder: VsmBuilder,
+    prev: Option<Image>,
+    vsm: Option<Arc<Vsm>>,
+    reuse: ReuseOptions,
+}
+
+/// What the saliency stage hands on.
+pub(crate) struct Saliency {
+    pub vsm: Arc<Vsm>,
+    /// Tiles whose pixels differ from the previous frame (all tiles for a first frame).
+    pub dirty: TileMask,
+    /// No previous frame of this size: everything downstream starts over.
+    pub fresh: bool,
+}
+
+impl SaliencyStage {
+    pub fn new(reuse: ReuseOptions) -> SaliencyStage {
+        SaliencyStage {
+            builder: VsmBuilder::new(),
+            prev: None,
+            vsm: None,
+            reuse,
+        }
+    }
+
+    pub fn run(&mut self, image: &Image) -> Saliency {
+        let size = image.size();
+        let same = self.reuse.enabled
+            && self.prev.as_ref().is_some_and(|p| p.size() == size)
+            && self.vsm.is_some();
+        let out = if !same {
+            let vsm = Arc::new(self.builder.build(image.as_ref()));
+            let mut dirty = TileMask::new(size, self.reuse.tile_px);
+            for r in 0..dirty.rows() {
+                for c in 0..dirty.cols() {
+                    dirty.set(c, r);
+                }
+            }
+            Saliency {
+                vsm,
+                dirty,
+                fresh: true,
+            }
+        } else {
+            let prev = self.prev.as_ref().expect("checked");
+            let dirty = changed_tiles(prev, image, self.reuse.tile_px);
+            let current = self.vsm.as_ref().expect("checked");
+            let vsm = if dirty.is_empty() {
+                current.clone()
+            } else if dirty.fraction() > FULL_VSM_FRACTION {
+                Arc::new(self.builder.build(image.as_ref()))
+            } else {
+                let mut v = (**current).clone();
+                for [x0, y0, x1, y1] in dirty.rects(size) {
+                    self.builder
+                        .update_region(image.as_ref(), &mut v, Rect { x0, y0, x1, y1 });
+                }
+                Arc::new(v)
+            };
+            Saliency {
+                vsm,
+                dirty,
+                fresh: false,
+            }
+        };
+        self.vsm = Some(out.vsm.clone());
+        match &mut self.prev {
+            Some(p) if p.size() == size => p.pixels_mut().copy_from_slice(image.pixels()),
+            p => *p = Some(image.clone()),
+        }
+        out
+    }
+}
+
+/// Stage 2: the reuse decision and the mesh (built, updated tile by tile, or kept).
+pub(crate) struct MeshStage {
+    options: MeshOptions,
+    reuse: ReuseOptions,
+    inc: Option<IncrementalMesh>,
+    mesh: Option<Arc<Mesh>>,
+    /// The VSM the current mesh was built for (tiles replaced as they are updated).
+    reference: Option<Vsm>,
+    last_vsm: Option<Arc<Vsm>>,
+    next_id: u64,
+}
+
+/// What the mesh stage hands on.
+pub(crate) struct Meshed {
+    pub mesh: Arc<Mesh>,
+    pub decision: Decision,
+    /// The tiles whose key points were re-sampled (for [`Decision::Update`]).
+    pub region: TileMask,
+}
+
+impl MeshStage {
+    pub fn new(options: MeshOptions, reuse: ReuseOptions) -> MeshStage {
+        MeshStage {
+            options,
+            reuse,
+            inc: None,
+            mesh: None,
+            reference: None,
+            last_vsm: None,
+            next_id: 0,
+        }
+    }
+
+    pub fn run(&mut self, s: &Saliency) -> Meshed {
+        let vsm = &s.vsm;
+        let size = vsm.size();
+        let have = !s.fresh
+            && self.reuse.enabled
+            && self.mesh.as_ref().is_some_and(|m| m.size() == size)
+            && self.reference.is_some();
+        let decision = if !have {
+            Decision::Rebuild
+        } else if self.last_vsm.as_ref().is_some_and(|l| Arc::ptr_eq(l, vsm)) {
+            Decision::Reuse
+        } else {
+            let changed =
+                changed_saliency(self.reference.as_ref().expect("have"), vsm, &self.reuse);
+            if changed.is_empty() {
+                Decision::Reuse
+            } else if changed.fraction() > self.reuse.rebuild_fraction {
+                Decision::Rebuild
+            } else {
+                // Re-sample one tile beyond the change, so a ring around a moved mark that
+                // spills into the next tile goes too.
+                let region = changed.clone();
+                let inc = self.inc.as_mut().expect("have");
+                let mesh = Arc::new(inc.update(vsm, &self.options, &region));
+                self.next_id = inc.next_id();
+                if let Some(r) = self.reference.as_mut() {
+                    r.copy_tiles_from(vsm, &region);
+                }
+                self.mesh = Some(mesh.clone());
+                self.last_vsm = Some(vsm.clone());
+                return Meshed {
+                    mesh,
+                    decision: Decision::Update,
+                    region,
+                };
+            }
+        };
+        self.last_vsm = Some(vsm.clone());
+        if decision == Decision::Rebuild {
+            let (inc, mesh) = IncrementalMesh::build(vsm, &self.options, self.next_id);
+            self.next_id = inc.next_id();
+            self.inc = Some(inc);
+            self.mesh = Some(Arc::new(mesh));
+            self.reference = Some((**vsm).clone());
+        }
+        Meshed {
+            mesh: self.mesh.clone().expect("built"),
+            decision,
+            region: TileMask::new(size, self.reuse.tile_px),
+        }
+    }
+}
+
+/// Stage 3: the solve, skipped on reuse, local on update.
+pub(crate) struct SolveStage {
+    solver: Solver,
+    target: Size,
+    prev: Option<(Arc<Mesh>, Arc<Warp>)>,
+    salient_scale: f64,
+}
+
+/// What the solve stage hands on.
+pub(crate) struct Solved {
+    pub warp: Arc<Warp>,
+    pub stats: SolveStats,
+    /// The decision as carried out (an update whose local solve kept folds became a full
+    /// solve: [`Decision::Rebuild`]).
+    pub decision: Decision,
+}
+
+impl SolveStage {
+    pub fn new(params: EnergyParams, target: Size) -> SolveStage {
+        SolveStage {
+            solver: Solver::new(params),
+            target,
+            prev: None,
+            salient_scale: 1.0,
+        }
+    }
+
+    pub fn run(&mut self, vsm: &Vsm, m: &Meshed) -> Result<Solved, Error> {
+        let mesh = &m.mesh;
+        if m.decision == Decision::Reuse {
+            if let Some((pm, pw)) = &self.prev {
+                if Arc::ptr_eq(pm, mesh) {
+                    return Ok(Solved {
+                        warp: pw.clone(),
+                        stats: SolveStats {
+                            salient_scale: self.salient_scale,
+                            ..SolveStats::default()
+                        },
+                        decision: Decision::Reuse,
+                    });
+                }
+            }
+        }
+        if m.decision == Decision::Update {
+            if let Some((pm, pw)) = &self.prev {
+                let held: HashMap<u64, DVec2> = pm
+                    .ids()
+                    .iter()
+                    .copied()
+                    .zip(pw.positions().iter().copied())
+                    .collect();
+                let fixed: Vec<Option<DVec2>> =
+                    mesh.ids().iter().map(|id| held.get(id).copied()).collect();
+                // New vertices are pulled to where the previous warp maps their source point.
+                let locator = WarpLocator::new(pm, pw);
+                let anchors: Vec<Option<DVec2>> = mesh
+                    .vertices()
+                    .iter()
+                    .zip(&fixed)
+                    .map(|(&p, f)| if f.is_some() { None } else { locator.map(p) })
+                    .collect();
+                if let Some((warp, stats)) = self.solver.solve_local(
+                    mesh,
+                    vsm,
+                    self.target,
+                    &fixed,
+                    &anchors,
+                    self.salient_scale,
+                )? {
+                    let warp = Arc::new(warp);
+                    self.prev = Some((mesh.clone(), warp.clone()));
+                    return Ok(Solved {
+                        warp,
+                        stats,
+                        decision: Decision::Update,
+                    });
+                }
+            }
+        }
+        let (warp, stats) = self.solver.solve(mesh, vsm, self.target)?;
+        self.salient_scale = stats.salient_scale;
+        let warp = Arc::new(warp);
+        self.prev = Some((mesh.clone(), warp.clone()));
+        // A full solve changes the whole frame, also when it stands in for an update whose
+        // local solve kept folds.
+        Ok(Solved {
+            warp,
+            stats,
+            decision: Decision::Rebuild,
+        })
+    }
+}
+
+/// Maps source points through a mesh's warp (point location by a bucket grid of triangles).
+struct WarpLocator<'a> {
+    mesh: &'a Mesh,
+    warp: &'a Warp,
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    buckets: Vec<Vec<u32>>,
+}
+
+impl<'a> WarpLocator<'a> {
+    fn new(mesh: &'a Mesh, warp: &'a Warp) -> WarpLocator<'a> {
+        let size = mesh.size();
+        let cell = 32.0;
+        let cols = (size.width as f64 / cell).ceil().max(1.0) as usize;
+        let rows = (size.height as f64 / cell).ceil().max(1.0) as usize;
+        let mut buckets = vec![Vec::new(); cols * rows];
+        for t in 0..mesh.triangles().len() {
+            let p = mesh.triangle_points(t);
+            let lo = p[0].min(p[1]).min(p[2]);
+            let hi = p[0].max(p[1]).max(p[2]);
+            let (c0, r0) = ((lo.x / cell) as usize, (lo.y / cell) as usize);
+            let (c1, r1) = (
+                ((hi.x / cell) as usize).min(cols - 1),
+                ((hi.y / cell) as usize).min(rows - 1),
+            );
+            for r in r0.min(rows - 1)..=r1 {
+                for c in c0.min(cols - 1)..=c1 {
+                    buckets[r * cols + c].push(t as u32);
+                }
+            }
+        }
+        WarpLocator {
+            mesh,
+            warp,
+            cell,
+            cols,
+            rows,
+            buckets,
+        }
+    }
+
+    /// Where the warp maps source point `q`, if it lies in the mesh.
+    fn map(&self, q: DVec2) -> Option<DVec2> {
+        let c = ((q.x / self.cell) as usize).min(self.cols - 1);
+        let r = ((q.y / self.cell) as usize).min(self.rows - 1);
+        for &t in &self.buckets[r * self.cols + c] {
+            let p = self.mesh.triangle_points(t as usize);
+            let d = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+            let b1 = (q - p[0]).perp_dot(p[2] - p[0]) / d;
+            let b2 = (p[1] - p[0]).perp_dot(q - p[0]) / d;
+            let b0 = 1.0 - b1 - b2;
+            if b0 >= -1e-9 && b1 >= -1e-9 && b2 >= -1e-9 {
+                let tri = self.mesh.triangles()[t as usize];
+                let w = tri.map(|v| self.warp.positions()[v as usize]);
+                return Some(w[0] * b0 + w[1] * b1 + w[2] * b2);
+            }
+        }
+        None
+    }
+}
+
+/// Stage 4: the render, only of what changed when the previous frame's output can be kept.
+#[derive(Default)]
+pub(crate) struct RenderStage {
+    renderer: Renderer,
+    prev: Option<Previous>,
+}
+
+struct Previous {
+    mesh: Arc<Mesh>,
+    warp: Arc<Warp>,
+    image: Image,
+    opaque: bool,
+}
+
+impl RenderStage {
+    pub fn run(
+        &mut self,
+        src: &Image,
+        mesh: &Arc<Mesh>,
+        warp: &Arc<Warp>,
+        dirty: &TileMask,
+        decision: Decision,
+    ) -> Image {
+        let opaque = src.is_opaque();
+        let target = warp.target();
+        let usable = self.prev.as_ref().filter(|p| {
+            decision != Decision::Rebuild
+                && p.image.size() == target
+                && p.opaque == opaque
+                && p.mesh.size() == mesh.size()
+        });
+        let out = match usable {
+            None => {
+                let mut out = Image::new(target);
+                self.renderer.render(src.as_ref(), mesh, warp, &mut out);
+                out
+            }
+            Some(p)
+                if Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty() =>
+            {
+                p.image.clone()
+            }
+            Some(p) => {
+                let kept = unchanged_triangles(&p.mesh, &p.warp, mesh, warp);
+                let mut out = p.image.clone();
+                self.renderer
+                    .render_partial(src.as_ref(), mesh, warp, &mut out, &|t, r| {
+                        kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3])
+                    });
+                out
+            }
+        };
+        self.prev = Some(Previous {
+            mesh: mesh.clone(),
+            warp: warp.clone(),
+            image: out.clone(),
+            opaque,
+        });
+        out
+    }
+}
+
+/// For each triangle of `mesh`: whether the previous mesh had it (the same three vertex ids)
+/// with the same deformed positions, so that its pixels in the previous output still hold.
+fn unchanged_triangles(pm: &Mesh, pw: &Warp, mesh: &Mesh, warp: &Warp) -> Vec<bool> {
+    let same_mesh = std::ptr::eq(pm, mesh);
+    let prev_pos: HashMap<u64, DVec2> = pm
+        .ids()
+        .iter()
+        .copied()
+        .zip(pw.positions().iter().copied())
+        .collect();
+    let key = |m: &Mesh, t: &[u32; 3]| {
+        let mut k = t.map(|v| m.ids()[v as usize]);
+        k.sort_unstable();
+        k
+    };
+    let prev_tris: HashSet<[u64; 3]> = if same_mesh {
+        HashSet::new()
+    } else {
+        pm.triangles().iter().map(|t| key(pm, t)).collect()
+    };
+    mesh.triangles()
+        .iter()
+        .map(|t| {
+            (same_mesh || prev_tris.contains(&key(mesh, t)))
+                && t.iter().all(|&v| {
+                    prev_pos.get(&mesh.ids()[v as usize]) == Some(&warp.positions()[v as usize])
+                })
+        })
+        .collect()
+}

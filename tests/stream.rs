@@ -1,0 +1,134 @@
+//! Streams: reuse of mesh and solution, temporal coherence, and the threaded pipeline giving
+//! the same frames as the sequential core.
+
+use vizretarget::stream::{NoProgress, VecSink, VecSource};
+use vizretarget::{Decision, Frame, Image, Options, Pipeline, Renderer, Retargeter, Size};
+
+/// A light map-like background with dots; dots `movers` shift by `step` px per frame.
+fn scene(size: Size, frame: u32, movers: usize) -> Image {
+    let mut img = Image::filled(size, [236, 244, 250, 255]);
+    let (w, h) = (size.width as f32, size.height as f32);
+    // Pastel land.
+    for y in 0..size.height {
+        for x in 0..size.width {
+            let (fx, fy) = (x as f32 / w, y as f32 / h);
+            if (fx - 0.3).powi(2) + (fy - 0.5).powi(2) < 0.06 {
+                img.set(x, y, [204, 235, 197, 255]);
+            }
+        }
+    }
+    let mut seed = 7u32;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        (seed % 10_000) as f32 / 10_000.0
+    };
+    let colours = [[215, 25, 28, 255], [44, 123, 182, 255], [26, 150, 65, 255]];
+    for i in 0..24 {
+        let (mut cx, cy) = (20.0 + rnd() * (w - 40.0), 20.0 + rnd() * (h - 40.0));
+        let r = 4.0 + rnd() * 4.0;
+        if i < movers {
+            cx = (cx + 3.0 * frame as f32).min(w - 12.0);
+        }
+        let c = colours[i % 3];
+        for y in (cy - r - 1.0) as u32..(cy + r + 2.0) as u32 {
+            for x in (cx - r - 1.0) as u32..(cx + r + 2.0) as u32 {
+                let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+                if dx * dx + dy * dy <= r * r && x < size.width && y < size.height {
+                    img.set(x, y, c);
+                }
+            }
+        }
+    }
+    img
+}
+
+fn run_sequential(frames: &[Image], target: Size, options: &Options) -> Vec<vizretarget::Retargeted> {
+    let mut r = Retargeter::new(target, options.clone()).unwrap();
+    let mut out = Vec::new();
+    for (i, f) in frames.iter().enumerate() {
+        r.send_frame(Frame::new(f.clone(), i as u64)).unwrap();
+        while let Ok(o) = r.receive_frame() {
+            out.push(o);
+        }
+    }
+    out
+}
+
+#[test]
+fn static_stream_gives_identical_frames_and_reuses() {
+    let size = Size::new(320, 200).unwrap();
+    let target = Size::new(160, 200).unwrap();
+    let frame = scene(size, 0, 0);
+    let frames: Vec<Image> = (0..50).map(|_| frame.clone()).collect();
+    let out = run_sequential(&frames, target, &Options::default());
+    assert_eq!(out.len(), 50);
+    assert_eq!(out[0].stats.decision, Decision::Rebuild);
+    for o in &out[1..] {
+        assert_eq!(o.stats.decision, Decision::Reuse, "frame {}", o.frame_index);
+        assert_eq!(o.image, out[0].image, "frame {} differs", o.frame_index);
+    }
+}
+
+/// A few dots moving: the mesh is updated locally, the output equals a fresh full render of
+/// the frame through that frame's mesh and warp (the partial render is exact), no fold, and
+/// pixels far from the movers do not change between frames.
+#[test]
+fn moving_marks_update_locally_and_stay_exact() {
+    let size = Size::new(320, 200).unwrap();
+    let target = Size::new(160, 200).unwrap();
+    let frames: Vec<Image> = (0..12).map(|f| scene(size, f, 2)).collect();
+    let options = Options::default().with_analysis(true);
+    let out = run_sequential(&frames, target, &options);
+    let updates = out.iter().filter(|o| o.stats.decision == Decision::Update).count();
+    assert!(updates >= 8, "decisions: {:?}", out.iter().map(|o| o.stats.decision).collect::<Vec<_>>());
+    let mut renderer = Renderer::new();
+    for (o, f) in out.iter().zip(&frames) {
+        let a = o.analysis.as_ref().unwrap();
+        assert_eq!(a.warp.folded_triangles(&a.mesh), 0);
+        let mut full = Image::new(target);
+        renderer.render(f.as_ref(), &a.mesh, &a.warp, &mut full);
+        assert!(full == o.image, "frame {}: partial render differs from a full one", o.frame_index);
+    }
+    // Temporal coherence: the share of output pixels that change between frames stays small.
+    for pair in out.windows(2) {
+        let changed = pair[0]
+            .image
+            .pixels()
+            .iter()
+            .zip(pair[1].image.pixels())
+            .filter(|(a, b)| a != b)
+            .count();
+        let share = changed as f64 / target.area() as f64;
+        assert!(share < 0.15, "frame {}: {share:.3} of the output changed", pair[1].frame_index);
+    }
+}
+
+#[test]
+fn threaded_pipeline_gives_the_sequential_frames() {
+    let size = Size::new(320, 200).unwrap();
+    let target = Size::new(200, 150).unwrap();
+    let frames: Vec<Image> = (0..16)
+        .map(|f| if f % 5 == 4 { scene(size, 0, 0) } else { scene(size, f, 3) })
+        .collect();
+    let options = Options::default();
+    let seq = run_sequential(&frames, target, &options);
+    let mut source = VecSource::new(frames.iter().enumerate().map(|(i, f)| Frame::new(f.clone(), i as u64)));
+    let mut sink = VecSink::default();
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let summary = Pipeline::run(target, &options, &mut source, &mut sink, &NoProgress, &cancel).unwrap();
+    assert_eq!(summary.frames, 16);
+    assert!(sink.finished);
+    assert_eq!(sink.frames.len(), seq.len());
+    for (a, b) in sink.frames.iter().zip(&seq) {
+        assert_eq!(a.frame_index, b.frame_index);
+        assert_eq!(a.stats.decision, b.stats.decision);
+        assert!(a.image == b.image, "frame {} differs", a.frame_index);
+    }
+    assert_eq!(
+        summary.reused + summary.updated + summary.rebuilt,
+        16,
+        "{summary:?}"
+    );
+}
