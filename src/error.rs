@@ -46,6 +46,10 @@ pub enum Error {
     #[error("aborted")]
     Aborted,
 
+    /// A bug: a stage panicked. The message says where.
+    #[error("internal error: {0}")]
+    Internal(String),
+
     /// The reader of the output went away (a closed pipe, `| head`): nothing more can be
     /// written, which for a stream is a normal way to end.
     #[error("the output was closed by its reader")]

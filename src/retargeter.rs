@@ -256,31 +256,44 @@ impl Retargeter {
             solved.decision,
         );
         times.render_ms = ms(t3, Instant::now());
-        let tiles = meshed.region.count();
+        let region_tiles = meshed.region.count();
         Ok(finish(
-            frame,
-            image,
-            sal.vsm,
-            meshed.mesh,
-            solved,
-            tiles,
-            times,
+            FrameParts {
+                frame,
+                image,
+                vsm: sal.vsm,
+                mesh: meshed.mesh,
+                solved,
+                region_tiles,
+                times,
+            },
             self.options.keep_analysis,
         ))
     }
 }
 
+/// Everything the stages produced for one frame.
+pub(crate) struct FrameParts {
+    pub frame: Frame,
+    pub image: Image,
+    pub vsm: Arc<Vsm>,
+    pub mesh: Arc<Mesh>,
+    pub solved: crate::stream::stages::Solved,
+    pub region_tiles: usize,
+    pub times: StageTimes,
+}
+
 /// The output record of one frame.
-pub(crate) fn finish(
-    frame: Frame,
-    image: Image,
-    vsm: Arc<Vsm>,
-    mesh: Arc<Mesh>,
-    solved: crate::stream::stages::Solved,
-    region_tiles: usize,
-    times: StageTimes,
-    keep_analysis: bool,
-) -> Retargeted {
+pub(crate) fn finish(parts: FrameParts, keep_analysis: bool) -> Retargeted {
+    let FrameParts {
+        frame,
+        image,
+        vsm,
+        mesh,
+        solved,
+        region_tiles,
+        times,
+    } = parts;
     let stats = FrameStats {
         vertices: mesh.vertices().len(),
         triangles: mesh.triangles().len(),
@@ -295,7 +308,7 @@ pub(crate) fn finish(
         },
         frame_index: frame.frame_index,
     };
-    let analysis = keep_analysis.then(|| Analysis {
+    let analysis = keep_analysis.then_some(Analysis {
         vsm,
         mesh,
         warp: solved.warp,

@@ -44,7 +44,11 @@ fn scene(size: Size, frame: u32, movers: usize) -> Image {
     img
 }
 
-fn run_sequential(frames: &[Image], target: Size, options: &Options) -> Vec<vizretarget::Retargeted> {
+fn run_sequential(
+    frames: &[Image],
+    target: Size,
+    options: &Options,
+) -> Vec<vizretarget::Retargeted> {
     let mut r = Retargeter::new(target, options.clone()).unwrap();
     let mut out = Vec::new();
     for (i, f) in frames.iter().enumerate() {
@@ -81,15 +85,26 @@ fn moving_marks_update_locally_and_stay_exact() {
     let frames: Vec<Image> = (0..12).map(|f| scene(size, f, 2)).collect();
     let options = Options::default().with_analysis(true);
     let out = run_sequential(&frames, target, &options);
-    let updates = out.iter().filter(|o| o.stats.decision == Decision::Update).count();
-    assert!(updates >= 8, "decisions: {:?}", out.iter().map(|o| o.stats.decision).collect::<Vec<_>>());
+    let updates = out
+        .iter()
+        .filter(|o| o.stats.decision == Decision::Update)
+        .count();
+    assert!(
+        updates >= 8,
+        "decisions: {:?}",
+        out.iter().map(|o| o.stats.decision).collect::<Vec<_>>()
+    );
     let mut renderer = Renderer::new();
     for (o, f) in out.iter().zip(&frames) {
         let a = o.analysis.as_ref().unwrap();
         assert_eq!(a.warp.folded_triangles(&a.mesh), 0);
         let mut full = Image::new(target);
         renderer.render(f.as_ref(), &a.mesh, &a.warp, &mut full);
-        assert!(full == o.image, "frame {}: partial render differs from a full one", o.frame_index);
+        assert!(
+            full == o.image,
+            "frame {}: partial render differs from a full one",
+            o.frame_index
+        );
     }
     // Temporal coherence: the share of output pixels that change between frames stays small.
     for pair in out.windows(2) {
@@ -101,7 +116,11 @@ fn moving_marks_update_locally_and_stay_exact() {
             .filter(|(a, b)| a != b)
             .count();
         let share = changed as f64 / target.area() as f64;
-        assert!(share < 0.15, "frame {}: {share:.3} of the output changed", pair[1].frame_index);
+        assert!(
+            share < 0.15,
+            "frame {}: {share:.3} of the output changed",
+            pair[1].frame_index
+        );
     }
 }
 
@@ -110,14 +129,33 @@ fn threaded_pipeline_gives_the_sequential_frames() {
     let size = Size::new(320, 200).unwrap();
     let target = Size::new(200, 150).unwrap();
     let frames: Vec<Image> = (0..16)
-        .map(|f| if f % 5 == 4 { scene(size, 0, 0) } else { scene(size, f, 3) })
+        .map(|f| {
+            if f % 5 == 4 {
+                scene(size, 0, 0)
+            } else {
+                scene(size, f, 3)
+            }
+        })
         .collect();
     let options = Options::default();
     let seq = run_sequential(&frames, target, &options);
-    let mut source = VecSource::new(frames.iter().enumerate().map(|(i, f)| Frame::new(f.clone(), i as u64)));
+    let mut source = VecSource::new(
+        frames
+            .iter()
+            .enumerate()
+            .map(|(i, f)| Frame::new(f.clone(), i as u64)),
+    );
     let mut sink = VecSink::default();
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let summary = Pipeline::run(target, &options, &mut source, &mut sink, &NoProgress, &cancel).unwrap();
+    let summary = Pipeline::run(
+        target,
+        &options,
+        &mut source,
+        &mut sink,
+        &NoProgress,
+        &cancel,
+    )
+    .unwrap();
     assert_eq!(summary.frames, 16);
     assert!(sink.finished);
     assert_eq!(sink.frames.len(), seq.len());
@@ -131,4 +169,130 @@ fn threaded_pipeline_gives_the_sequential_frames() {
         16,
         "{summary:?}"
     );
+}
+
+/// A sink whose reader goes away after `limit` frames.
+struct ClosingSink {
+    limit: usize,
+    written: usize,
+    finished: bool,
+}
+
+impl vizretarget::FrameSink for ClosingSink {
+    fn write_frame(&mut self, _frame: &vizretarget::Retargeted) -> Result<(), vizretarget::Error> {
+        if self.written == self.limit {
+            return Err(vizretarget::Error::OutputClosed);
+        }
+        self.written += 1;
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<(), vizretarget::Error> {
+        self.finished = true;
+        Ok(())
+    }
+}
+
+/// A source that fails after `good` frames.
+struct FailingSource {
+    good: u64,
+    next: u64,
+    frame: Image,
+}
+
+impl vizretarget::FrameSource for FailingSource {
+    fn next_frame(&mut self) -> Result<Option<Frame>, vizretarget::Error> {
+        if self.next == self.good {
+            return Err(vizretarget::Error::TruncatedFrame {
+                path: "stdin".into(),
+                frame_index: self.next,
+                expected: 100,
+                got: 10,
+            });
+        }
+        self.next += 1;
+        Ok(Some(Frame::new(self.frame.clone(), self.next - 1)))
+    }
+}
+
+#[test]
+fn a_closed_output_ends_the_run_successfully() {
+    let size = Size::new(120, 80).unwrap();
+    let frames = (0..40).map(|i| Frame::new(scene(size, i, 2), i as u64));
+    let mut source = VecSource::new(frames);
+    let mut sink = ClosingSink {
+        limit: 5,
+        written: 0,
+        finished: false,
+    };
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let s = Pipeline::run(
+        Size::new(60, 80).unwrap(),
+        &Options::default(),
+        &mut source,
+        &mut sink,
+        &NoProgress,
+        &cancel,
+    )
+    .unwrap();
+    assert!(s.output_closed);
+    assert_eq!(s.frames, 5);
+    assert!(sink.finished);
+}
+
+#[test]
+fn a_failing_source_reports_its_error_after_the_good_frames() {
+    let size = Size::new(120, 80).unwrap();
+    let mut source = FailingSource {
+        good: 7,
+        next: 0,
+        frame: scene(size, 0, 0),
+    };
+    let mut sink = VecSink::default();
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let err = Pipeline::run(
+        Size::new(60, 80).unwrap(),
+        &Options::default(),
+        &mut source,
+        &mut sink,
+        &NoProgress,
+        &cancel,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            vizretarget::Error::TruncatedFrame { frame_index: 7, .. }
+        ),
+        "{err}"
+    );
+    assert_eq!(sink.frames.len(), 7, "every good frame is written first");
+    assert!(sink.finished);
+}
+
+#[test]
+fn cancel_stops_reading_and_finishes_the_output() {
+    let size = Size::new(120, 80).unwrap();
+    let mut source = VecSource::new((0..20).map(|i| Frame::new(scene(size, i, 1), i as u64)));
+    let mut sink = VecSink::default();
+    let cancel = std::sync::atomic::AtomicBool::new(true);
+    let s = Pipeline::run(
+        Size::new(60, 80).unwrap(),
+        &Options::default(),
+        &mut source,
+        &mut sink,
+        &NoProgress,
+        &cancel,
+    )
+    .unwrap();
+    assert!(s.cancelled);
+    assert!(sink.finished);
+    assert!(sink.frames.len() < 20);
+}
+
+#[test]
+fn stage_objects_can_move_between_threads() {
+    fn sendable<T: Send>() {}
+    sendable::<Retargeter>();
+    sendable::<vizretarget::Retargeted>();
+    sendable::<Options>();
 }

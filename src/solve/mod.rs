@@ -121,6 +121,15 @@ pub struct Solver {
     rhs: Vec<f64>,
 }
 
+/// What one solve with repair rounds produced.
+struct Outcome {
+    positions: Vec<DVec2>,
+    scales: Vec<f64>,
+    stats: SolveStats,
+    /// Triangles still folded.
+    folded: Vec<usize>,
+}
+
 /// Re-solves with tripled weights on folded triangles, at most this many times.
 const REPAIR_ROUNDS: usize = 8;
 const REPAIR_FACTOR: f64 = 3.0;
@@ -154,7 +163,12 @@ impl Solver {
         let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
         let layout = Layout::new(mesh, target);
         self.anchors.clear();
-        let (mut positions, scales, mut stats, bad) = self.solve_with(mesh, layout, fit)?;
+        let Outcome {
+            mut positions,
+            scales,
+            mut stats,
+            folded: bad,
+        } = self.solve_with(mesh, layout, fit)?;
         if !bad.is_empty() {
             let vt = repair::VertexTriangles::new(mesh);
             stats.untangled =
@@ -197,7 +211,12 @@ impl Solver {
         self.anchors.clear();
         self.anchors.extend_from_slice(anchors);
         let layout = Layout::with_fixed(mesh, target, fixed);
-        let (positions, scales, stats, bad) = self.solve_with(mesh, layout, salient_scale)?;
+        let Outcome {
+            positions,
+            scales,
+            stats,
+            folded: bad,
+        } = self.solve_with(mesh, layout, salient_scale)?;
         if !bad.is_empty() {
             return Ok(None);
         }
@@ -217,7 +236,7 @@ impl Solver {
         mesh: &Mesh,
         layout: Layout,
         salient_scale: f64,
-    ) -> Result<(Vec<DVec2>, Vec<f64>, SolveStats, Vec<usize>), Error> {
+    ) -> Result<Outcome, Error> {
         let nt = mesh.triangles().len();
         let mut stats = SolveStats {
             salient_scale,
@@ -281,7 +300,12 @@ impl Solver {
             bad = repair::folded(mesh, &pos.0);
             stats.repair_rounds += 1;
         }
-        Ok((pos.0, pos.1, stats, bad))
+        Ok(Outcome {
+            positions: pos.0,
+            scales: pos.1,
+            stats,
+            folded: bad,
+        })
     }
 
     /// Assembles values for the current pattern, factorizes and solves; returns snapped

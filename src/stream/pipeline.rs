@@ -1,11 +1,25 @@
-//! The threaded stage pipeline.
+//! The threaded stage pipeline: ingest → VSM → mesh → solve → render → sink, one thread each,
+//! joined by bounded channels.
+//!
+//! The stages are the ones the sequential [`Retargeter`] calls (`stages.rs`), so both give the
+//! same frames. Each stage loops over its input channel and ends when that channel closes;
+//! dropping the sender is the shutdown signal (no sentinel messages, as in gifski). Channels
+//! hold one frame each: memory stays flat on an endless stdin stream, and a slow sink slows
+//! the source rather than piling frames up. Frame order is kept because every stage is one
+//! thread and channels are FIFO.
 
-use super::{FrameSink, FrameSource, Progress};
+use super::stages::{MeshStage, Meshed, RenderStage, Saliency, SaliencyStage, SolveStage, Solved};
+use super::{Decision, FrameSink, FrameSource, Progress};
 use crate::error::Error;
 use crate::image::Size;
-use crate::retargeter::{Options, Retargeter, StageTimes, Status};
+use crate::mesh::MeshOptions;
+use crate::retargeter::{finish, Frame, FrameParts, Options, StageTimes};
+use crossbeam_channel::{bounded, Receiver, Sender};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+
+/// Frames waiting between two stages.
+const CHANNEL_CAPACITY: usize = 1;
 
 /// What a run did.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -28,13 +42,65 @@ pub struct RunSummary {
     pub cancelled: bool,
 }
 
+impl RunSummary {
+    /// Frames per second over the run.
+    pub fn fps(&self) -> f64 {
+        self.frames as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+}
+
 /// Runs a source through the stages into a sink.
 pub struct Pipeline;
 
+struct WithVsm {
+    frame: Frame,
+    sal: Saliency,
+    times: StageTimes,
+}
+
+struct WithMesh {
+    frame: Frame,
+    sal: Saliency,
+    meshed: Meshed,
+    times: StageTimes,
+}
+
+struct WithWarp {
+    frame: Frame,
+    sal: Saliency,
+    meshed: Meshed,
+    solved: Solved,
+    times: StageTimes,
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1000.0
+}
+
+/// A stage loop: `f` on every message until the input closes or the output is gone.
+fn stage<I, O>(
+    rx: Receiver<I>,
+    tx: Sender<O>,
+    stop: &AtomicBool,
+    mut f: impl FnMut(I) -> Result<O, Error>,
+) -> Result<(), Error> {
+    for msg in rx {
+        if stop.load(Ordering::Relaxed) {
+            break;
+        }
+        let out = f(msg).inspect_err(|_| stop.store(true, Ordering::Relaxed))?;
+        if tx.send(out).is_err() {
+            break; // downstream ended (the sink stopped early): not an error here
+        }
+    }
+    Ok(())
+}
+
 impl Pipeline {
-    /// Retargets every frame of `source` to `target` into `sink`, in order. Stops early,
-    /// successfully, when the sink reports [`Error::OutputClosed`] or `cancel` is set (frames
-    /// already read are finished and written first).
+    /// Retargets every frame of `source` to `target` into `sink`, in order, each stage on its
+    /// own thread. Stops early, successfully, when the sink reports [`Error::OutputClosed`]
+    /// or `cancel` is set (frames already read are finished and written first, and the sink
+    /// is always finished).
     pub fn run(
         target: Size,
         options: &Options,
@@ -43,47 +109,199 @@ impl Pipeline {
         progress: &dyn Progress,
         cancel: &AtomicBool,
     ) -> Result<RunSummary, Error> {
-        // First version: the sequential core. The threaded stages replace this body.
+        Size::new(target.width, target.height)?;
+        options.validate()?;
         let start = Instant::now();
+        let stop = AtomicBool::new(false);
         let mut summary = RunSummary::default();
-        let mut r = Retargeter::new(target, options.clone())?;
-        let result = (|| -> Result<(), Error> {
-            loop {
-                if cancel.load(Ordering::Relaxed) {
-                    summary.cancelled = true;
-                    break;
-                }
-                let Some(frame) = source.next_frame()? else {
-                    break;
-                };
-                r.send_frame(frame)?;
-                while let Ok(out) = r.receive_frame() {
-                    match sink.write_frame(&out) {
-                        Err(Error::OutputClosed) => {
-                            summary.output_closed = true;
-                            return Ok(());
+        let (tx0, rx0) = bounded::<Frame>(CHANNEL_CAPACITY);
+        let (tx1, rx1) = bounded::<WithVsm>(CHANNEL_CAPACITY);
+        let (tx2, rx2) = bounded::<WithMesh>(CHANNEL_CAPACITY);
+        let (tx3, rx3) = bounded::<WithWarp>(CHANNEL_CAPACITY);
+        let (tx4, rx4) = bounded(CHANNEL_CAPACITY);
+
+        let cancelled = AtomicBool::new(false);
+        let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
+            let stop = &stop;
+            let cancelled = &cancelled;
+            let mut handles = Vec::new();
+            handles.push(
+                std::thread::Builder::new()
+                    .name("ingest".into())
+                    .spawn_scoped(s, move || -> Result<(), Error> {
+                        loop {
+                            if stop.load(Ordering::Relaxed) {
+                                return Ok(());
+                            }
+                            if cancel.load(Ordering::Relaxed) {
+                                cancelled.store(true, Ordering::Relaxed);
+                                return Ok(());
+                            }
+                            let frame = match source.next_frame() {
+                                Ok(Some(f)) => f,
+                                Ok(None) => return Ok(()),
+                                Err(e) => {
+                                    return Err(e);
+                                }
+                            };
+                            if tx0.send(frame).is_err() {
+                                return Ok(());
+                            }
                         }
-                        other => other?,
+                    })
+                    .expect("spawn ingest"),
+            );
+            let mut saliency = SaliencyStage::new(options.reuse.clone());
+            handles.push(
+                std::thread::Builder::new()
+                    .name("vsm".into())
+                    .spawn_scoped(s, move || {
+                        stage(rx0, tx1, stop, |frame| {
+                            let t = Instant::now();
+                            let sal = saliency.run(&frame.image);
+                            let times = StageTimes {
+                                vsm_ms: ms(t),
+                                ..StageTimes::default()
+                            };
+                            Ok(WithVsm { frame, sal, times })
+                        })
+                    })
+                    .expect("spawn vsm"),
+            );
+            let mut mesher = MeshStage::new(
+                MeshOptions {
+                    alpha: options.alpha,
+                },
+                options.reuse.clone(),
+            );
+            handles.push(
+                std::thread::Builder::new()
+                    .name("mesh".into())
+                    .spawn_scoped(s, move || {
+                        stage(rx1, tx2, stop, |m: WithVsm| {
+                            let t = Instant::now();
+                            let meshed = mesher.run(&m.sal);
+                            let mut times = m.times;
+                            times.mesh_ms = ms(t);
+                            Ok(WithMesh {
+                                frame: m.frame,
+                                sal: m.sal,
+                                meshed,
+                                times,
+                            })
+                        })
+                    })
+                    .expect("spawn mesh"),
+            );
+            let mut solver = SolveStage::new(options.energy.clone(), target);
+            handles.push(
+                std::thread::Builder::new()
+                    .name("solve".into())
+                    .spawn_scoped(s, move || {
+                        stage(rx2, tx3, stop, |m: WithMesh| {
+                            let t = Instant::now();
+                            let solved = solver.run(&m.sal.vsm, &m.meshed)?;
+                            let mut times = m.times;
+                            times.solve_ms = ms(t);
+                            Ok(WithWarp {
+                                frame: m.frame,
+                                sal: m.sal,
+                                meshed: m.meshed,
+                                solved,
+                                times,
+                            })
+                        })
+                    })
+                    .expect("spawn solve"),
+            );
+            let mut renderer = RenderStage::default();
+            let keep = options.keep_analysis;
+            handles.push(
+                std::thread::Builder::new()
+                    .name("render".into())
+                    .spawn_scoped(s, move || {
+                        stage(rx3, tx4, stop, |m: WithWarp| {
+                            let t = Instant::now();
+                            let image = renderer.run(
+                                &m.frame.image,
+                                &m.meshed.mesh,
+                                &m.solved.warp,
+                                &m.sal.dirty,
+                                m.solved.decision,
+                            );
+                            let mut times = m.times;
+                            times.render_ms = ms(t);
+                            let region_tiles = m.meshed.region.count();
+                            Ok(finish(
+                                FrameParts {
+                                    frame: m.frame,
+                                    image,
+                                    vsm: m.sal.vsm,
+                                    mesh: m.meshed.mesh,
+                                    solved: m.solved,
+                                    region_tiles,
+                                    times,
+                                },
+                                keep,
+                            ))
+                        })
+                    })
+                    .expect("spawn render"),
+            );
+
+            // The sink runs here, on the caller's thread (the sink need not be Send).
+            let mut sink_result: Result<(), Error> = Ok(());
+            for out in rx4 {
+                match sink.write_frame(&out) {
+                    Ok(()) => {}
+                    Err(Error::OutputClosed) => {
+                        summary.output_closed = true;
+                        stop.store(true, Ordering::Relaxed);
+                        break;
                     }
-                    summary.frames += 1;
-                    summary.rebuilt += 1;
-                    let t = &out.stats.times;
-                    summary.stage_ms.vsm_ms += t.vsm_ms;
-                    summary.stage_ms.mesh_ms += t.mesh_ms;
-                    summary.stage_ms.solve_ms += t.solve_ms;
-                    summary.stage_ms.render_ms += t.render_ms;
-                    progress.frame_done(&out.stats);
+                    Err(e) => {
+                        sink_result = Err(e);
+                        stop.store(true, Ordering::Relaxed);
+                        break;
+                    }
                 }
+                summary.frames += 1;
+                match out.stats.decision {
+                    Decision::Reuse => summary.reused += 1,
+                    Decision::Update => summary.updated += 1,
+                    Decision::Rebuild => summary.rebuilt += 1,
+                }
+                let t = &out.stats.times;
+                summary.stage_ms.vsm_ms += t.vsm_ms;
+                summary.stage_ms.mesh_ms += t.mesh_ms;
+                summary.stage_ms.solve_ms += t.solve_ms;
+                summary.stage_ms.render_ms += t.render_ms;
+                progress.frame_done(&out.stats);
             }
-            r.flush();
-            while let Ok(out) = r.receive_frame() {
-                sink.write_frame(&out)?;
-            }
-            debug_assert_eq!(r.receive_frame().err(), Some(Status::Done));
-            Ok(())
-        })();
+            // Leaving the loop drops the receiver: upstream stages see a closed channel.
+            let mut results: Vec<Result<(), Error>> = handles
+                .into_iter()
+                .map(|h| {
+                    let name = h.thread().name().unwrap_or("stage").to_string();
+                    h.join().unwrap_or_else(|panic| {
+                        let msg = panic
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| panic.downcast_ref::<String>().cloned())
+                            .unwrap_or_default();
+                        Err(Error::Internal(format!("the {name} stage panicked: {msg}")))
+                    })
+                })
+                .collect();
+            summary.cancelled = cancelled.load(Ordering::Relaxed);
+            results.push(sink_result);
+            results
+        });
         let finished = sink.finish();
-        result?;
+        // The first real error wins; a closed output is not one.
+        for r in results {
+            r?;
+        }
         match finished {
             Err(Error::OutputClosed) => summary.output_closed = true,
             other => other?,
