@@ -1,0 +1,354 @@
+//! Animated GIF in: every frame composited onto the logical screen as a browser shows it.
+//!
+//! A GIF frame is a rectangle at an offset on the canvas; transparent pixels let the canvas
+//! show through. After a frame is shown its disposal method says what happens to its
+//! rectangle: `Keep` (and `Any`) leave it, `Background` clears it to transparent (what
+//! browsers do; the background colour index is ignored, as they ignore it), `Previous`
+//! restores what was there before the frame was drawn. Delays (in 10 ms units) become
+//! [`Frame::duration_ms`]; the NETSCAPE loop count becomes [`FrameSource::repeat`].
+
+use crate::error::Error;
+use crate::image::{Image, Size, MAX_SIDE};
+use crate::retargeter::Frame;
+use crate::stream::{FrameSource, Repeat};
+use gif::{ColorOutput, DecodeOptions, DisposalMethod, MemoryLimit};
+use std::io::{BufReader, Read};
+use std::path::{Path, PathBuf};
+
+/// Most bytes the decoder may allocate for one frame: 512 MiB, as for stills.
+const MEMORY_LIMIT: u64 = 512 << 20;
+
+/// A rectangle on the canvas, clipped to it.
+#[derive(Copy, Clone, Debug)]
+struct Rect {
+    x: usize,
+    y: usize,
+    w: usize,
+    h: usize,
+}
+
+/// Frames of an animated GIF.
+pub struct GifSource<R: Read> {
+    decoder: gif::Decoder<BufReader<R>>,
+    name: PathBuf,
+    size: Size,
+    canvas: Vec<[u8; 4]>,
+    /// What to do before drawing the next frame: the last frame's disposal and rectangle, and
+    /// for `Previous` the pixels it covered before it was drawn.
+    dispose: Option<(DisposalMethod, Rect, Vec<[u8; 4]>)>,
+    next_index: u64,
+    total: Option<u64>,
+    repeat: Repeat,
+    ended: bool,
+}
+
+impl GifSource<std::fs::File> {
+    /// Opens a GIF file. Its frames are counted first by walking the file's blocks without
+    /// decompressing them, so [`FrameSource::len_hint`] is known.
+    pub fn open(path: &Path) -> Result<Self, Error> {
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut source = GifSource::new(file, path)?;
+        source.total = count_frames(path);
+        Ok(source)
+    }
+}
+
+/// Counts frames without decoding them; `None` if the file cannot be walked to its end (the
+/// decoding pass then reports what is wrong, at the frame where it is).
+fn count_frames(path: &Path) -> Option<u64> {
+    let file = std::fs::File::open(path).ok()?;
+    let mut options = DecodeOptions::new();
+    options.skip_frame_decoding(true);
+    options.set_memory_limit(MemoryLimit::Bytes(MEMORY_LIMIT.try_into().ok()?));
+    let mut d = options.read_info(BufReader::new(file)).ok()?;
+    let mut n = 0;
+    while d.read_next_frame().ok()?.is_some() {
+        n += 1;
+    }
+    Some(n)
+}
+
+impl<R: Read + Send> GifSource<R> {
+    /// Reads the GIF header from `reader`; `name` names it in errors.
+    pub fn new(reader: R, name: impl AsRef<Path>) -> Result<Self, Error> {
+        let name = name.as_ref().to_path_buf();
+        let mut options = DecodeOptions::new();
+        options.set_color_output(ColorOutput::RGBA);
+        if let Ok(limit) = MEMORY_LIMIT.try_into() {
+            options.set_memory_limit(MemoryLimit::Bytes(limit));
+        }
+        let decoder = options
+            .read_info(BufReader::new(reader))
+            .map_err(|e| describe(&name, None, e))?;
+        let (w, h) = (decoder.width() as u32, decoder.height() as u32);
+        let size = Size::new(w, h).map_err(|_| {
+            Error::decode(
+                &name,
+                format!("GIF declares {w}x{h} px: out of range, each side must be 1 to {MAX_SIDE}"),
+            )
+        })?;
+        let repeat = match decoder.repeat() {
+            gif::Repeat::Infinite => Repeat::Infinite,
+            gif::Repeat::Finite(n) => Repeat::Times(n),
+        };
+        Ok(GifSource {
+            decoder,
+            name,
+            size,
+            canvas: vec![[0; 4]; size.area()],
+            dispose: None,
+            next_index: 0,
+            total: None,
+            repeat,
+            ended: false,
+        })
+    }
+
+    /// The logical screen size: the size of every frame.
+    pub fn size(&self) -> Size {
+        self.size
+    }
+
+    fn rows(&mut self, r: Rect) -> impl Iterator<Item = &mut [[u8; 4]]> {
+        let w = self.size.width as usize;
+        self.canvas
+            .chunks_exact_mut(w)
+            .skip(r.y)
+            .take(r.h)
+            .map(move |row| &mut row[r.x..r.x + r.w])
+    }
+}
+
+impl<R: Read + Send> FrameSource for GifSource<R> {
+    fn next_frame(&mut self) -> Result<Option<Frame>, Error> {
+        if self.ended {
+            return Ok(None);
+        }
+        // Dispose of the previous frame.
+        match self.dispose.take() {
+            Some((DisposalMethod::Background, r, _)) => {
+                for row in self.rows(r) {
+                    row.fill([0; 4]);
+                }
+            }
+            Some((DisposalMethod::Previous, r, saved)) => {
+                for (row, old) in self.rows(r).zip(saved.chunks_exact(r.w.max(1))) {
+                    row.copy_from_slice(old);
+                }
+            }
+            _ => {}
+        }
+        let index = self.next_index;
+        let frame = match self.decoder.read_next_frame() {
+            Ok(Some(f)) => f,
+            Ok(None) => {
+                self.ended = true;
+                if index == 0 {
+                    return Err(Error::NoFrames(self.name.clone()));
+                }
+                return Ok(None);
+            }
+            Err(e) => {
+                self.ended = true;
+                return Err(describe(&self.name, Some(index), e));
+            }
+        };
+        let (sw, sh) = (self.size.width as usize, self.size.height as usize);
+        let (fx, fy) = (frame.left as usize, frame.top as usize);
+        let (fw, fh) = (frame.width as usize, frame.height as usize);
+        let rect = Rect {
+            x: fx.min(sw),
+            y: fy.min(sh),
+            w: (fx + fw).min(sw).saturating_sub(fx),
+            h: (fy + fh).min(sh).saturating_sub(fy),
+        };
+        let delay = frame.delay;
+        let dispose = frame.dispose;
+        let buffer: Vec<u8> = frame.buffer.to_vec();
+        if buffer.len() < fw * fh * 4 {
+            self.ended = true;
+            return Err(Error::decode(
+                &self.name,
+                format!("corrupt GIF: frame {index} has too few pixels"),
+            ));
+        }
+        let saved = if dispose == DisposalMethod::Previous {
+            self.rows(rect).flat_map(|r| r.to_vec()).collect()
+        } else {
+            Vec::new()
+        };
+        // Draw: opaque pixels replace the canvas, transparent ones let it show.
+        for (dy, row) in self.rows(rect).enumerate() {
+            let src = &buffer[dy * fw * 4..];
+            for (dx, px) in row.iter_mut().enumerate() {
+                let p = &src[dx * 4..dx * 4 + 4];
+                if p[3] != 0 {
+                    *px = [p[0], p[1], p[2], p[3]];
+                }
+            }
+        }
+        self.dispose = Some((dispose, rect, saved));
+        let image = Image::from_pixels(self.size, self.canvas.clone()).ok_or(Error::Aborted)?;
+        let mut out = Frame::new(image, index);
+        out.duration_ms = Some(delay as u32 * 10);
+        self.next_index += 1;
+        Ok(Some(out))
+    }
+
+    fn len_hint(&self) -> Option<usize> {
+        self.total
+            .map(|t| t.saturating_sub(self.next_index) as usize)
+    }
+
+    fn repeat(&self) -> Option<Repeat> {
+        Some(self.repeat)
+    }
+}
+
+/// One line: which frame, truncated or corrupt.
+fn describe(name: &Path, frame: Option<u64>, e: gif::DecodingError) -> Error {
+    let at = frame.map_or_else(String::new, |i| format!(" in frame {i}"));
+    let text = match &e {
+        gif::DecodingError::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            return Error::decode(name, format!("truncated GIF: the file ends early{at}"))
+        }
+        gif::DecodingError::Io(io) => {
+            return Error::io(name, std::io::Error::new(io.kind(), io.to_string()))
+        }
+        other => other.to_string(),
+    };
+    if text.contains("end of file") || text.contains("unexpected EOF") {
+        Error::decode(name, format!("truncated GIF: the file ends early{at}"))
+    } else {
+        Error::decode(name, format!("corrupt GIF{at}: {text}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// left, top, width, height, indices, disposal, delay.
+    type Spec<'a> = (u16, u16, u16, u16, &'a [u8], DisposalMethod, u16);
+
+    /// A 4x3 GIF, palette black/red/green/blue, built frame by frame.
+    fn gif(frames: &[Spec<'_>], repeat: gif::Repeat) -> Vec<u8> {
+        let palette = [0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0, 255];
+        let mut out = Vec::new();
+        {
+            let mut enc = gif::Encoder::new(&mut out, 4, 3, &palette).unwrap();
+            enc.set_repeat(repeat).unwrap();
+            for &(left, top, width, height, px, dispose, delay) in frames {
+                let frame = gif::Frame {
+                    left,
+                    top,
+                    width,
+                    height,
+                    buffer: px.into(),
+                    dispose,
+                    delay,
+                    transparent: Some(3),
+                    ..Default::default()
+                };
+                enc.write_frame(&frame).unwrap();
+            }
+        }
+        out
+    }
+
+    fn all(bytes: &[u8]) -> (GifSource<&[u8]>, Vec<Frame>) {
+        let mut src = GifSource::new(bytes, "t.gif").unwrap();
+        let mut v = Vec::new();
+        while let Some(f) = src.next_frame().unwrap() {
+            v.push(f);
+        }
+        (src, v)
+    }
+
+    const K: [u8; 4] = [0, 0, 0, 255];
+    const R: [u8; 4] = [255, 0, 0, 255];
+    const G: [u8; 4] = [0, 255, 0, 255];
+    const T: [u8; 4] = [0, 0, 0, 0];
+
+    #[test]
+    fn disposal_methods_and_offsets() {
+        let full = [0u8; 12]; // all black
+        let bytes = gif(
+            &[
+                (0, 0, 4, 3, &full, DisposalMethod::Keep, 5),
+                // 2x1 red at (1,1), then restored to black (Previous).
+                (1, 1, 2, 1, &[1, 1], DisposalMethod::Previous, 7),
+                // 1x1 green at (3,2) with a transparent pixel beside it (2,2): cleared after.
+                (2, 2, 2, 1, &[3, 2], DisposalMethod::Background, 9),
+                // Nothing drawn (fully transparent 1x1 at 0,0).
+                (0, 0, 1, 1, &[3], DisposalMethod::Keep, 0),
+            ],
+            gif::Repeat::Finite(3),
+        );
+        let (src, f) = all(&bytes);
+        assert_eq!(f.len(), 4);
+        assert_eq!(src.repeat(), Some(Repeat::Times(3)));
+        let idx: Vec<u64> = f.iter().map(|f| f.frame_index).collect();
+        assert_eq!(idx, [0, 1, 2, 3]);
+        let delays: Vec<_> = f.iter().map(|f| f.duration_ms).collect();
+        assert_eq!(delays, [Some(50), Some(70), Some(90), Some(0)]);
+        assert!(f[0].image.pixels().iter().all(|&p| p == K));
+        assert_eq!(f[1].image.row(1), &[K, R, R, K]);
+        assert_eq!(f[2].image.row(1), &[K, K, K, K], "Previous restored");
+        assert_eq!(f[2].image.row(2), &[K, K, K, G]);
+        assert_eq!(f[3].image.row(2), &[K, K, T, T], "Background cleared");
+        assert_eq!(
+            f[3].image.get(0, 0),
+            K,
+            "transparent pixel keeps the canvas"
+        );
+    }
+
+    #[test]
+    fn loop_count_infinite_and_none() {
+        let full = [1u8; 12];
+        let a = gif(
+            &[(0, 0, 4, 3, &full, DisposalMethod::Keep, 2)],
+            gif::Repeat::Infinite,
+        );
+        let (src, _) = all(&a);
+        assert_eq!(src.repeat(), Some(Repeat::Infinite));
+        let b = gif(
+            &[(0, 0, 4, 3, &full, DisposalMethod::Keep, 2)],
+            gif::Repeat::Finite(0),
+        );
+        let (src, f) = all(&b);
+        assert_eq!(src.repeat(), Some(Repeat::Times(0)));
+        assert_eq!(f.len(), 1);
+    }
+
+    #[test]
+    fn frame_outside_the_screen_is_clipped() {
+        let px = [2u8; 9];
+        let (_, f) = all(&gif(
+            &[(3, 2, 3, 3, &px, DisposalMethod::Keep, 1)],
+            gif::Repeat::Infinite,
+        ));
+        assert_eq!(f[0].image.get(3, 2), G);
+        assert_eq!(f[0].image.get(2, 2), T);
+    }
+
+    #[test]
+    fn corrupt_frame_is_named() {
+        let full = [1u8; 12];
+        let mut bytes = gif(
+            &[
+                (0, 0, 4, 3, &full, DisposalMethod::Keep, 2),
+                (0, 0, 4, 3, &full, DisposalMethod::Keep, 2),
+            ],
+            gif::Repeat::Infinite,
+        );
+        let cut = bytes.len() - 8;
+        bytes.truncate(cut);
+        let mut src = GifSource::new(&bytes[..], "anim.gif").unwrap();
+        assert!(src.next_frame().unwrap().is_some());
+        let e = src.next_frame().unwrap_err().to_string();
+        assert!(e.contains("anim.gif") && e.contains("frame 1"), "{e}");
+        assert!(src.next_frame().unwrap().is_none());
+    }
+}

@@ -1,0 +1,406 @@
+//! A watched directory of snapshots as a stream of frames (`vizretarget watch`).
+//!
+//! A dashboard exporter drops a PNG or JPEG into a folder every few seconds, sometimes
+//! replacing the last one. [`WatchSource`] yields each new or replaced snapshot once, as a
+//! frame, so the frames go through the same [`crate::Pipeline`] as any stream and the mesh and
+//! solution are reused between snapshots that barely change.
+//!
+//! - **Never half-written.** A file is read only when its writer is done: after a close-write
+//!   event (Linux inotify), or when no event came for the settle time (200 ms by default);
+//!   either way its size and modification time must not have changed since the last event.
+//!   A file renamed into the folder is complete by construction. If decoding still fails
+//!   (a writer that paused mid-file), the file is retried when it changes again, or after
+//!   another settle period, up to 5 times; then it is reported and skipped until it changes.
+//! - **Once each.** The (size, mtime, inode) of every file read is remembered; events that do
+//!   not change it (a reader opening the file, a touch of its permissions) are ignored. A
+//!   replaced snapshot has a new fingerprint and is read again.
+//! - **Order.** Snapshots are read in the order they became complete, ties in the order they
+//!   first appeared; one slow writer does not hold back the files after it. Files present when
+//!   watching starts come first, in natural order of their names.
+//! - **Names.** Only `.png`, `.jpg` and `.jpeg` files (any case) directly in the folder count;
+//!   hidden names (a leading `.`, as atomic writers' temporary files) are ignored. Each
+//!   frame's file name is recorded in [`WatchSource::names`].
+//! - **Vanished files** (deleted before they could be read) and unreadable ones are reported to
+//!   the warning callback, and watching goes on. The library never prints.
+//! - **Stopping**: the cancel flag (Ctrl-C) ends the stream within 100 ms.
+
+use super::names::FrameNames;
+use super::natural::natural_cmp;
+use super::still::read_still;
+use crate::error::Error;
+use crate::retargeter::Frame;
+use crate::stream::FrameSource;
+use notify::event::{AccessKind, AccessMode, ModifyKind, RenameMode};
+use notify::{Event, EventKind, RecursiveMode, Watcher};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::Arc;
+use std::time::{Duration, Instant, SystemTime};
+
+/// How often a waiting source looks at the cancel flag.
+const POLL: Duration = Duration::from_millis(100);
+/// How many times a complete-looking file that fails to decode is retried.
+const MAX_ATTEMPTS: u32 = 5;
+
+/// Options of [`WatchSource`].
+pub struct WatchOptions {
+    /// Quiet time after the last event before a file with no close-write event is read.
+    pub settle: Duration,
+    /// Read the snapshots already in the folder first (in natural order of their names).
+    pub existing: bool,
+    /// Ends the stream when set.
+    pub cancel: Arc<AtomicBool>,
+    /// Told about files that vanished or could not be read; watching goes on.
+    pub on_warning: Box<dyn FnMut(&Error) + Send>,
+}
+
+impl Default for WatchOptions {
+    fn default() -> Self {
+        WatchOptions {
+            settle: Duration::from_millis(200),
+            existing: true,
+            cancel: Arc::new(AtomicBool::new(false)),
+            on_warning: Box::new(|_| {}),
+        }
+    }
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+struct Fingerprint {
+    len: u64,
+    mtime: Option<SystemTime>,
+    inode: u64,
+}
+
+fn fingerprint(m: &std::fs::Metadata) -> Fingerprint {
+    #[cfg(unix)]
+    let inode = std::os::unix::fs::MetadataExt::ino(m);
+    #[cfg(not(unix))]
+    let inode = 0;
+    Fingerprint {
+        len: m.len(),
+        mtime: m.modified().ok(),
+        inode,
+    }
+}
+
+struct Candidate {
+    path: PathBuf,
+    /// Order of first appearance.
+    seq: u64,
+    /// Last event or observed change.
+    changed_at: Instant,
+    /// A close-write or rename-in came after the last write.
+    closed: bool,
+    /// Fingerprint when last looked at.
+    seen: Option<Fingerprint>,
+    attempts: u32,
+}
+
+/// Frames from the snapshots written into a directory.
+pub struct WatchSource {
+    dir: PathBuf,
+    _watcher: notify::RecommendedWatcher,
+    events: Receiver<notify::Result<Event>>,
+    candidates: Vec<Candidate>,
+    done: HashMap<PathBuf, Fingerprint>,
+    names: FrameNames,
+    next_index: u64,
+    next_seq: u64,
+    options: WatchOptions,
+}
+
+/// Whether `path` is a snapshot of `dir`: a visible `.png`/`.jpg`/`.jpeg` directly in it.
+fn is_snapshot(dir: &Path, path: &Path) -> bool {
+    if path.parent() != Some(dir) {
+        return false;
+    }
+    let Some(name) = path.file_name().map(|n| n.to_string_lossy()) else {
+        return false;
+    };
+    if name.starts_with('.') {
+        return false;
+    }
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    matches!(ext.as_deref(), Some("png" | "jpg" | "jpeg"))
+}
+
+impl WatchSource {
+    /// Starts watching `dir` (which must exist).
+    pub fn new(dir: &Path, options: WatchOptions) -> Result<WatchSource, Error> {
+        let meta = std::fs::metadata(dir).map_err(|e| Error::io(dir, e))?;
+        if !meta.is_dir() {
+            return Err(Error::decode(dir, "is not a folder: watch needs a folder"));
+        }
+        // Events carry absolute paths: compare against the canonical folder.
+        let dir = dir.canonicalize().map_err(|e| Error::io(dir, e))?;
+        let (tx, events) = std::sync::mpsc::channel();
+        let watch_error = |e: notify::Error| {
+            Error::io(
+                &dir,
+                std::io::Error::other(format!("cannot watch the folder: {e}")),
+            )
+        };
+        let mut watcher = notify::recommended_watcher(tx).map_err(watch_error)?;
+        watcher
+            .watch(&dir, RecursiveMode::NonRecursive)
+            .map_err(watch_error)?;
+        let mut source = WatchSource {
+            dir,
+            _watcher: watcher,
+            events,
+            candidates: Vec::new(),
+            done: HashMap::new(),
+            names: FrameNames::new(),
+            next_index: 0,
+            next_seq: 0,
+            options,
+        };
+        if source.options.existing {
+            source.rescan()?;
+        }
+        Ok(source)
+    }
+
+    /// The folder being watched (canonical).
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The file name of each frame, by `frame_index`.
+    pub fn names(&self) -> FrameNames {
+        self.names.clone()
+    }
+
+    /// Adds every snapshot in the folder not already read as it is now, in natural order.
+    fn rescan(&mut self) -> Result<(), Error> {
+        let mut found: Vec<(String, PathBuf)> = Vec::new();
+        for entry in std::fs::read_dir(&self.dir).map_err(|e| Error::io(&self.dir, e))? {
+            let Ok(entry) = entry else { continue };
+            let path = entry.path();
+            if is_snapshot(&self.dir, &path) {
+                found.push((entry.file_name().to_string_lossy().into_owned(), path));
+            }
+        }
+        found.sort_by(|a, b| natural_cmp(&a.0, &b.0));
+        for (_, path) in found {
+            // Nothing is known about the writers of files already there: wait the full
+            // settle time for them.
+            self.touch(path, false);
+        }
+        Ok(())
+    }
+
+    /// Records activity on `path`.
+    fn touch(&mut self, path: PathBuf, closed: bool) {
+        let now = Instant::now();
+        match self.candidates.iter_mut().find(|c| c.path == path) {
+            Some(c) => {
+                c.changed_at = now;
+                c.closed = closed;
+            }
+            None => {
+                self.candidates.push(Candidate {
+                    path,
+                    seq: self.next_seq,
+                    changed_at: now,
+                    closed,
+                    seen: None,
+                    attempts: 0,
+                });
+                self.next_seq += 1;
+            }
+        }
+    }
+
+    fn handle(&mut self, event: Event) -> Result<(), Error> {
+        if event.need_rescan() {
+            return self.rescan();
+        }
+        let paths: Vec<PathBuf> = event
+            .paths
+            .iter()
+            .filter(|p| is_snapshot(&self.dir, p))
+            .cloned()
+            .collect();
+        match event.kind {
+            EventKind::Access(AccessKind::Close(AccessMode::Write)) => {
+                for p in paths {
+                    if let Some(c) = self.candidates.iter_mut().find(|c| c.path == p) {
+                        c.closed = true;
+                    } else {
+                        self.touch(p, true);
+                    }
+                }
+            }
+            EventKind::Modify(ModifyKind::Name(RenameMode::To)) => {
+                for p in paths {
+                    self.touch(p, true);
+                }
+            }
+            EventKind::Modify(ModifyKind::Name(RenameMode::Both)) => {
+                // paths = [from, to]: the new name arrived complete.
+                if let Some(to) = event.paths.get(1) {
+                    if is_snapshot(&self.dir, to) {
+                        self.touch(to.clone(), true);
+                    }
+                }
+            }
+            EventKind::Modify(ModifyKind::Name(_)) | EventKind::Remove(_) => {
+                // Gone (or renamed away): reading it will tell; nothing to do yet.
+            }
+            EventKind::Create(_) | EventKind::Modify(_) => {
+                for p in paths {
+                    self.touch(p, false);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn warn(&mut self, e: Error) {
+        (self.options.on_warning)(&e);
+    }
+
+    /// Reads the first ready candidate, if any; returns how long to wait otherwise.
+    fn try_ready(&mut self) -> Result<Result<Frame, Duration>, Error> {
+        let now = Instant::now();
+        let settle = self.options.settle;
+        let quick = settle / 8;
+        let mut wait = POLL;
+        // Ready ones in order of readiness, then of appearance.
+        self.candidates.sort_by_key(|c| (c.changed_at, c.seq));
+        let mut i = 0;
+        while i < self.candidates.len() {
+            let c = &mut self.candidates[i];
+            let meta = match std::fs::metadata(&c.path) {
+                Ok(m) if m.is_file() => m,
+                Ok(_) => {
+                    self.candidates.remove(i);
+                    continue;
+                }
+                Err(e) => {
+                    let c = self.candidates.remove(i);
+                    if e.kind() == std::io::ErrorKind::NotFound {
+                        self.warn(Error::decode(
+                            &c.path,
+                            "vanished before it could be read; skipped",
+                        ));
+                    } else {
+                        self.warn(Error::io(&c.path, e));
+                    }
+                    continue;
+                }
+            };
+            let fp = fingerprint(&meta);
+            if self.done.get(&c.path) == Some(&fp) {
+                self.candidates.remove(i); // already read as it is now
+                continue;
+            }
+            if c.seen != Some(fp) {
+                // Changed since the last look: its quiet period starts again. (At the first
+                // look the time of the event that brought it stands.)
+                if c.seen.is_some() {
+                    c.changed_at = now;
+                }
+                c.seen = Some(fp);
+            }
+            let quiet = now.saturating_duration_since(c.changed_at);
+            let needed = if c.closed { quick } else { settle };
+            if quiet < needed || fp.len == 0 {
+                wait = wait.min(needed.saturating_sub(quiet).max(Duration::from_millis(5)));
+                i += 1;
+                continue;
+            }
+            let path = c.path.clone();
+            match read_still(&path) {
+                Ok(image) => {
+                    // Unchanged while we read it?
+                    let after = std::fs::metadata(&path).map(|m| fingerprint(&m)).ok();
+                    if after != Some(fp) {
+                        let c = &mut self.candidates[i];
+                        c.seen = after;
+                        c.changed_at = Instant::now();
+                        c.closed = false;
+                        i += 1;
+                        continue;
+                    }
+                    self.candidates.remove(i);
+                    self.done.insert(path.clone(), fp);
+                    let index = self.next_index;
+                    self.next_index += 1;
+                    let name = path
+                        .file_name()
+                        .unwrap_or_default()
+                        .to_string_lossy()
+                        .into_owned();
+                    self.names.insert(index, name);
+                    return Ok(Ok(Frame::new(image, index)));
+                }
+                Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+                    let c = self.candidates.remove(i);
+                    self.warn(Error::decode(
+                        &c.path,
+                        "vanished before it could be read; skipped",
+                    ));
+                }
+                Err(e) => {
+                    let c = &mut self.candidates[i];
+                    c.attempts += 1;
+                    c.changed_at = Instant::now();
+                    c.closed = false;
+                    if c.attempts >= MAX_ATTEMPTS {
+                        let c = self.candidates.remove(i);
+                        self.done.insert(c.path, fp); // skip until it changes
+                        self.warn(e);
+                    } else {
+                        i += 1;
+                    }
+                }
+            }
+        }
+        Ok(Err(wait))
+    }
+}
+
+impl FrameSource for WatchSource {
+    fn next_frame(&mut self) -> Result<Option<Frame>, Error> {
+        loop {
+            if self.options.cancel.load(Ordering::Relaxed) {
+                return Ok(None);
+            }
+            while let Ok(event) = self.events.try_recv() {
+                match event {
+                    Ok(ev) => self.handle(ev)?,
+                    Err(e) => self.warn(Error::io(
+                        &self.dir,
+                        std::io::Error::other(format!("watch error: {e}")),
+                    )),
+                }
+            }
+            let wait = match self.try_ready()? {
+                Ok(frame) => return Ok(Some(frame)),
+                Err(wait) => wait,
+            };
+            match self.events.recv_timeout(wait.min(POLL)) {
+                Ok(Ok(ev)) => self.handle(ev)?,
+                Ok(Err(e)) => self.warn(Error::io(
+                    &self.dir,
+                    std::io::Error::other(format!("watch error: {e}")),
+                )),
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(Error::io(
+                        &self.dir,
+                        std::io::Error::other("the folder watcher stopped"),
+                    ))
+                }
+            }
+        }
+    }
+}
