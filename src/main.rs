@@ -1,5 +1,6 @@
-//! The `vizretarget` binary: parse, run, report. Exit codes: 0 done, 1 failed (bad input,
-//! unwritable output, ...), 2 usage error (from clap). Every error is one line on stderr.
+//! The `vizretarget` binary: parse, run, report. Exit codes: 0 done (also when the reader of
+//! stdout went away early), 1 failed (bad input, unwritable output, ...), 2 usage error (from
+//! clap), 130 stopped by Ctrl-C. Every error is one line on stderr.
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -17,7 +18,8 @@ fn main() -> ExitCode {
         }
     };
     match cli::run(args) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(cli::Outcome::Done) => ExitCode::SUCCESS,
+        Ok(cli::Outcome::Interrupted) => ExitCode::from(130),
         Err(e) => {
             eprintln!("vizretarget: error: {}", chain_line(&e));
             ExitCode::FAILURE

@@ -16,7 +16,46 @@ Examples:
   Make a graph square with a finer mesh, as JPEG, keeping pictures of each stage:
     vizretarget graph.png --size 600x600 --alpha 12 -o graph-square.jpg --debug-dir debug/
 
-Exit status: 0 done; 1 the input could not be read or the output not written; 2 usage error.";
+Streams: every frame goes through one pipeline that keeps the mesh while the content barely
+changes. A summary line (frames, fps, share of frames reused / updated / rebuilt, ms per stage)
+ends each run.
+  vizretarget live.gif --size 360x640 -o live-portrait.gif
+      An animated GIF to a portrait GIF: delays and loop count kept.
+  vizretarget frames/ --width 400 -o narrow/ --stats-json stats.json
+      A folder of PNG/JPEG frames, in natural order (frame2 before frame10), to a folder of
+      PNGs with the same names, and per-frame statistics as JSON.
+  ffmpeg -i talk.mp4 -f yuv4mpegpipe - | vizretarget - --size 720x720 -o square.gif
+      Video piped in as YUV4MPEG2 (or as PNGs: -f image2pipe -c:v png -), recognised by
+      content, written as a GIF.
+  ffmpeg -i in.mp4 -f rawvideo -pix_fmt rgba - \\
+      | vizretarget - --input-format rgba --input-size 1280x720 --size 720x720 -o - \\
+      | ffmpeg -f yuv4mpegpipe -i - out.mp4
+      Raw frames in (they need --input-format and --input-size), YUV4MPEG2 out (the default
+      on stdout; also --output-format rgba, rgb24 or png).
+  vizretarget watch snapshots/ -o phone/ --size 360x640
+      Retarget each new or replaced dashboard snapshot as it lands, into phone/ under the same
+      name. Ctrl-C stops.
+
+Exit status: 0 done (also when the reader of stdout closes it early); 1 the input could not be
+read or the output not written; 2 usage error; 130 stopped by Ctrl-C (the first Ctrl-C finishes
+the frames in flight and completes the output, a second one quits at once).";
+
+/// Help text after the options of `watch --help`.
+const WATCH_HELP: &str = "\
+Each PNG or JPEG snapshot that appears in DIR, or replaces one there, is retargeted once and
+written into OUTDIR under the same name, atomically (a temporary file, then a rename): a reader
+of OUTDIR never sees half a picture. A snapshot is read only when its writer is done (a
+close-write event, or no change for --settle-ms), never half-written. Snapshots already in DIR
+when watching starts are retargeted first, in natural order of their names. Hidden files and
+other extensions are ignored. A snapshot that vanishes before it is read, or cannot be decoded,
+is reported on stderr and skipped; watching goes on. One line per snapshot on stderr unless
+--quiet.
+
+Example:
+  vizretarget watch snapshots/ -o phone/ --size 360x640 --stats-json phone-stats.json
+
+Exit status: 130 after Ctrl-C (the snapshot in flight is finished first), 1 if DIR cannot be
+watched or OUTDIR not written, 2 usage error.";
 
 /// Resize a visualization to another aspect ratio without squashing its marks.
 ///
@@ -28,25 +67,38 @@ Exit status: 0 done; 1 the input could not be read or the output not written; 2 
 /// while empty or uniform areas absorb the change.
 ///
 /// Give the target with --size WxH, or change one side with --width or --height. The input is
-/// never modified; the output is written only if the whole run succeeds.
+/// never modified; the output is written only if the whole run succeeds. Streams of frames (an
+/// animated GIF, a folder, stdin from ffmpeg, a watched folder) go through the same method, one
+/// frame after the other.
 #[derive(Parser, Debug)]
 #[command(
     name = "vizretarget",
     version,
-    override_usage = "vizretarget <INPUT> (--size WxH | --width N | --height N) -o <OUTPUT> [OPTIONS]",
+    override_usage = "vizretarget <INPUT> (--size WxH | --width N | --height N) -o <OUTPUT> [OPTIONS]\n  \
+                      or:  vizretarget watch <DIR> -o <OUTDIR> (--size WxH | --width N | --height N) [OPTIONS]",
     after_long_help = EXAMPLES,
-    max_term_width = 100
+    max_term_width = 100,
+    args_conflicts_with_subcommands = true,
+    disable_help_subcommand = true,
+    subcommand_negates_reqs = true
 )]
 #[command(group = clap::ArgGroup::new("target").args(["size", "width", "height"]).required(true).multiple(true))]
 pub struct Cli {
-    /// Input image: PNG, JPEG, WebP, or GIF (first frame), recognised by content, not by name.
-    /// Up to 16384 px on a side.
-    pub input: PathBuf,
+    #[command(subcommand)]
+    pub command: Option<Command>,
 
-    /// Output image; the extension picks the format: .png, .jpg or .jpeg. Replaces an existing
-    /// file only when the run succeeds; the folder must exist.
-    #[arg(short, long, value_name = "OUTPUT")]
-    pub output: PathBuf,
+    /// Input: a PNG, JPEG, WebP or GIF (animated or not), recognised by content, not by name; a
+    /// folder of PNG/JPEG frames; or - for stdin (YUV4MPEG2 or a PNG stream, recognised; raw
+    /// frames with --input-format). Up to 16384 px on a side.
+    #[arg(required = true)]
+    pub input: Option<PathBuf>,
+
+    /// Output; the extension picks the format: .png, .jpg or .jpeg for one picture, .gif for
+    /// an animation, .y4m for YUV4MPEG2; a folder (existing, or ending in /) for a PNG
+    /// sequence; - for stdout (see --output-format). Replaces an existing file only when the
+    /// run succeeds; the folder must exist.
+    #[arg(short, long, value_name = "OUTPUT", required = true)]
+    pub output: Option<PathBuf>,
 
     /// Target size as WIDTHxHEIGHT in px, e.g. 400x600; each side 1 to 16384. Not together with
     /// --width or --height.
@@ -71,14 +123,141 @@ pub struct Cli {
 
     /// Also write the method's intermediate pictures into DIR (created if missing): the
     /// saliency map (vsm.png), its levels (levels.png) and the mesh before and after the warp
-    /// (mesh-before.png, mesh-after.png).
+    /// (mesh-before.png, mesh-after.png). One picture only.
     #[arg(long, value_name = "DIR")]
     pub debug_dir: Option<PathBuf>,
 
     /// Print mesh size (vertices, triangles, degrees of freedom) and milliseconds per stage to
-    /// stderr. Off by default.
+    /// stderr (for a stream, one line per frame). Off by default.
     #[arg(long)]
     pub stats: bool,
+
+    #[command(flatten)]
+    pub stream: StreamArgs,
+}
+
+/// Options of streams of frames.
+#[derive(clap::Args, Debug, Default)]
+pub struct StreamArgs {
+    /// How to read stdin (or a file): auto recognises YUV4MPEG2 and PNG streams by content;
+    /// rgba and rgb24 are raw frames as `ffmpeg -f rawvideo -pix_fmt rgba -` writes them and
+    /// need --input-size.
+    #[arg(long, value_name = "FORMAT", value_enum, default_value_t = InputArg::Auto)]
+    pub input_format: InputArg,
+
+    /// Frame size of raw input, WIDTHxHEIGHT in px.
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub input_size: Option<(u32, u32)>,
+
+    /// What to write: auto decides by the output path (on stdout: y4m); png-seq writes a
+    /// folder; png on stdout is a stream of PNG files (`ffmpeg -f image2pipe -i -` reads it).
+    #[arg(long, value_name = "FORMAT", value_enum, default_value_t = OutputArg::Auto)]
+    pub output_format: OutputArg,
+
+    /// Frames per second of the output: GIF delays and the YUV4MPEG2 header. Default: the
+    /// input's own timing (GIF delays, YUV4MPEG2 rate), else 10 fps for a GIF and 25 for
+    /// YUV4MPEG2. 0.001 to 1000.
+    #[arg(long, value_name = "FPS", value_parser = parse_fps)]
+    pub fps: Option<f64>,
+
+    /// Write per-frame statistics to FILE as JSON: frame index (and file name), reuse decision,
+    /// vertices, triangles, DOF, milliseconds per stage; and the run's summary.
+    #[arg(long, value_name = "FILE")]
+    pub stats_json: Option<PathBuf>,
+
+    /// No progress bar and no summary line on stderr (errors are still reported).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Subcommands.
+#[derive(clap::Subcommand, Debug)]
+pub enum Command {
+    /// Watch a folder of dashboard snapshots and retarget each new or replaced one into OUTDIR.
+    #[command(
+        override_usage = "vizretarget watch <DIR> -o <OUTDIR> (--size WxH | --width N | --height N) [OPTIONS]",
+        after_long_help = WATCH_HELP
+    )]
+    #[command(group = clap::ArgGroup::new("target").args(["size", "width", "height"]).required(true).multiple(true))]
+    Watch(WatchArgs),
+}
+
+/// Arguments of `vizretarget watch`.
+#[derive(clap::Args, Debug)]
+pub struct WatchArgs {
+    /// The folder to watch (not recursively).
+    pub dir: PathBuf,
+
+    /// The folder to write into (created if missing; not DIR itself).
+    #[arg(short, long, value_name = "OUTDIR")]
+    pub output: PathBuf,
+
+    /// Target size as WIDTHxHEIGHT in px; each side 1 to 16384.
+    #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
+          conflicts_with_all = ["width", "height"], value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+
+    /// Target width in px; the height stays as in the first snapshot unless --height is given.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
+    pub width: Option<u32>,
+
+    /// Target height in px; the width stays as in the first snapshot unless --width is given.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
+    pub height: Option<u32>,
+
+    /// Mesh spacing α in px, 4 to 200.
+    #[arg(long, value_name = "N", default_value_t = 20.0)]
+    pub alpha: f32,
+
+    /// How long a snapshot must stay unchanged before it is read when no close-write event
+    /// says its writer is done, in ms.
+    #[arg(long, value_name = "MS", default_value_t = 200)]
+    pub settle_ms: u64,
+
+    /// Write per-snapshot statistics (with file names) to FILE as JSON when watching stops.
+    #[arg(long, value_name = "FILE")]
+    pub stats_json: Option<PathBuf>,
+
+    /// No line per snapshot on stderr (warnings are still reported).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// `--input-format` values.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum InputArg {
+    #[default]
+    Auto,
+    Rgba,
+    Rgb24,
+    Y4m,
+    /// Concatenated PNG files.
+    Png,
+}
+
+/// `--output-format` values.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum OutputArg {
+    #[default]
+    Auto,
+    Gif,
+    PngSeq,
+    Png,
+    Jpeg,
+    Rgba,
+    Rgb24,
+    Y4m,
+}
+
+fn parse_fps(s: &str) -> Result<f64, String> {
+    let f: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number of frames per second"))?;
+    if !(0.001..=1000.0).contains(&f) {
+        return Err(format!("{f} fps is out of range: 0.001 to 1000"));
+    }
+    Ok(f)
 }
 
 fn parse_side(s: &str) -> Result<u32, String> {
@@ -117,6 +296,33 @@ mod tests {
             .contains("not a whole number"));
         assert!(parse_size("400").unwrap_err().contains("WIDTHxHEIGHT"));
         assert!(parse_size("20000x10").unwrap_err().contains("out of range"));
+        assert_eq!(parse_fps("29.97"), Ok(29.97));
+        assert!(parse_fps("0").unwrap_err().contains("out of range"));
+        assert!(parse_fps("x").unwrap_err().contains("not a number"));
+    }
+
+    #[test]
+    fn still_form_and_watch_subcommand_both_parse() {
+        let c = Cli::try_parse_from(["v", "in.png", "-o", "o.png", "--width", "3"]).unwrap();
+        assert!(c.command.is_none());
+        assert_eq!(c.input.as_deref(), Some(std::path::Path::new("in.png")));
+        let c = Cli::try_parse_from(["v", "watch", "d", "-o", "out", "--size", "3x4"]).unwrap();
+        match c.command {
+            Some(Command::Watch(w)) => assert_eq!(w.size, Some((3, 4))),
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            Cli::try_parse_from(["v", "watch", "d", "-o", "out"]).is_err(),
+            "needs a target"
+        );
+        assert!(
+            Cli::try_parse_from(["v", "in.png", "-o", "o.png"]).is_err(),
+            "needs a target"
+        );
+        assert!(
+            Cli::try_parse_from(["v", "--width", "3", "-o", "o.png"]).is_err(),
+            "needs input"
+        );
     }
 
     #[test]

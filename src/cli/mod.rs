@@ -1,106 +1,74 @@
 //! The command line: parses, wires the library's public API, reports. No method code here.
+//!
+//! - `still.rs`: one picture in, one out (`INPUT.png -o OUT.png`).
+//! - `stream.rs`: frames in (GIF, folder, stdin), frames out (GIF, folder, stdout), through
+//!   [`vizretarget::Pipeline`].
+//! - `watch.rs`: `vizretarget watch DIR -o OUTDIR`.
+//! - `report.rs`: progress bar, summary line, `--stats-json`; `interrupt.rs`: Ctrl-C.
 
 mod args;
+mod interrupt;
+mod report;
+mod still;
+mod stream;
+mod watch;
 
 pub use args::Cli;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{anyhow, bail, Result};
+use args::{Command, OutputArg};
 use std::path::Path;
-use vizretarget::io::{read_still, write_still, OutputFormat};
-use vizretarget::{debug, retarget, Options, Retargeted, Size};
+use vizretarget::io::{is_std, resolve_output, Destination, OutputChoice};
 
-/// Runs the still-image job.
-pub fn run(cli: Cli) -> Result<()> {
-    let format = OutputFormat::from_path(&cli.output).with_context(|| {
-        format!(
-            "{}: unsupported output format: use a name ending in .png, .jpg or .jpeg",
-            cli.output.display()
-        )
-    })?;
-    // Fail before the work, not after it: the output's folder must exist.
-    let out_dir = match cli.output.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !out_dir.is_dir() {
-        bail!(
-            "{}: the output folder {} does not exist",
-            cli.output.display(),
-            out_dir.display()
-        );
-    }
-    let options = Options::default()
-        .with_alpha(cli.alpha)
-        .with_analysis(cli.debug_dir.is_some());
-    options.validate()?;
-    if cli.size.is_none() && cli.width.is_none() && cli.height.is_none() {
-        bail!("no target size: give --size WxH, or --width N and/or --height N");
-    }
-    let image = read_still(&cli.input)?;
-    let (w, h) = match (cli.size, cli.width, cli.height) {
-        (Some(s), _, _) => s,
-        (None, w, h) => (w.unwrap_or(image.width()), h.unwrap_or(image.height())),
-    };
-    let target = Size::new(w, h)?;
-    let out = retarget(&image, target, &options)?;
-    write_still(&out.image, &cli.output, format)?;
-    if let Some(dir) = &cli.debug_dir {
-        write_debug(dir, &image, &out)?;
-    }
-    if cli.stats {
-        print_stats(&cli.input, image.size(), &out);
-    }
-    Ok(())
+/// How a successful run ended.
+pub enum Outcome {
+    Done,
+    /// Stopped by Ctrl-C (exit 130).
+    Interrupted,
 }
 
-fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let a = out.analysis.as_ref().context("analysis was not kept")?;
-    let pictures = [
-        ("vsm.png", debug::vsm_image(&a.vsm)),
-        ("levels.png", debug::levels_image(&a.vsm)),
-        (
-            "mesh-before.png",
-            debug::mesh_overlay(input, a.mesh.vertices(), a.mesh.triangles()),
-        ),
-        (
-            "mesh-after.png",
-            debug::mesh_overlay(&out.image, a.warp.positions(), a.mesh.triangles()),
-        ),
-    ];
-    for (name, img) in pictures {
-        write_still(&img, &dir.join(name), OutputFormat::Png)?;
+/// Runs the job the arguments ask for.
+pub fn run(cli: Cli) -> Result<Outcome> {
+    if let Some(Command::Watch(w)) = &cli.command {
+        return watch::run(w);
     }
-    Ok(())
+    let (Some(input), Some(output)) = (cli.input.clone(), cli.output.clone()) else {
+        bail!("give an INPUT and -o OUTPUT (see --help)");
+    };
+    let choice = match cli.stream.output_format {
+        OutputArg::Auto => OutputChoice::Auto,
+        OutputArg::Gif => OutputChoice::Gif,
+        OutputArg::PngSeq => OutputChoice::PngSeq,
+        OutputArg::Png => OutputChoice::Png,
+        OutputArg::Jpeg => OutputChoice::Jpeg,
+        OutputArg::Rgba => OutputChoice::Rgba,
+        OutputArg::Rgb24 => OutputChoice::Rgb24,
+        OutputArg::Y4m => OutputChoice::Y4m,
+    };
+    match resolve_output(&output, choice).map_err(library_error)? {
+        Destination::Still(format) if is_picture_file(&input) => {
+            still::run(&cli, &input, &output, format)?;
+            Ok(Outcome::Done)
+        }
+        Destination::Still(_) => bail!(
+            "{}: one picture cannot hold a stream of frames: write a .gif, a folder (ending \
+             in /), or - (stdout)",
+            output.display()
+        ),
+        Destination::Stream(format) => stream::run(&cli, &input, &output, format),
+    }
 }
 
-fn print_stats(input: &Path, from: Size, out: &Retargeted) {
-    let s = &out.stats;
-    let t = &s.times;
-    eprintln!(
-        "{}: {} -> {}: {} vertices, {} triangles, DOF {}, {} unknowns; \
-         vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
-         folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}",
-        input.display(),
-        from,
-        out.image.size(),
-        s.vertices,
-        s.triangles,
-        s.dof,
-        s.solve.unknowns,
-        t.vsm_ms,
-        t.mesh_ms,
-        t.solve_ms,
-        t.render_ms,
-        t.total_ms(),
-        s.solve.folds_first_solve,
-        s.solve.repair_rounds,
-        s.solve.untangled,
-        s.solve.blend,
-        if s.solve.blend_global {
-            " (global)"
-        } else {
-            ""
-        },
-    );
+/// An input that is one file (a still, or a GIF whose first frame is used for a still output).
+fn is_picture_file(input: &Path) -> bool {
+    !is_std(input) && !input.is_dir()
+}
+
+/// The library's error as the command line reports it: option problems without the
+/// "invalid option" prefix.
+pub(crate) fn library_error(e: vizretarget::Error) -> anyhow::Error {
+    match e {
+        vizretarget::Error::InvalidOptions(m) => anyhow!(m),
+        e => e.into(),
+    }
 }

@@ -1,0 +1,240 @@
+//! What a stream run tells its user: a progress bar (stderr is a terminal and the frame count
+//! is known), optional lines per frame, a summary line, and `--stats-json`.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use vizretarget::io::{output_name, FrameNames};
+use vizretarget::stream::Progress;
+use vizretarget::{Decision, FrameStats, RunSummary, Size};
+
+/// Collects per-frame statistics and moves the progress bar.
+pub struct Reporter {
+    bar: Option<ProgressBar>,
+    names: Option<FrameNames>,
+    /// Print one line per frame: the per-frame --stats line, or for watch `name -> out`.
+    per_frame: PerFrame,
+    keep: bool,
+    frames: Mutex<Vec<(FrameStats, Option<String>)>>,
+}
+
+/// What to print for each frame.
+pub enum PerFrame {
+    Nothing,
+    Stats,
+    /// `name -> OUTDIR/name` (watch mode).
+    Written(PathBuf),
+}
+
+impl Reporter {
+    pub fn new(
+        len: Option<usize>,
+        quiet: bool,
+        per_frame: PerFrame,
+        names: Option<FrameNames>,
+        keep_stats: bool,
+    ) -> Reporter {
+        let bar = match len {
+            Some(n) if !quiet && std::io::stderr().is_terminal() && n > 1 => {
+                let bar = ProgressBar::new(n as u64);
+                if let Ok(style) = ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} frames, {per_sec}, {eta} left",
+                ) {
+                    bar.set_style(style);
+                }
+                Some(bar)
+            }
+            _ => None,
+        };
+        Reporter {
+            bar,
+            names,
+            per_frame,
+            keep: keep_stats,
+            frames: Mutex::new(Vec::new()),
+        }
+    }
+
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+
+    fn print(&self, line: String) {
+        match &self.bar {
+            Some(bar) => bar.suspend(|| eprintln!("{line}")),
+            None => eprintln!("{line}"),
+        }
+    }
+
+    /// Writes the statistics as JSON to `path` (atomically).
+    pub fn write_json(&self, path: &Path, summary: Option<&RunSummary>) -> anyhow::Result<()> {
+        let frames = self.frames.lock().unwrap_or_else(|e| e.into_inner());
+        let mut s = String::from("{\n  \"frames\": [");
+        for (i, (f, name)) in frames.iter().enumerate() {
+            let t = &f.times;
+            s.push_str(if i == 0 { "\n    " } else { ",\n    " });
+            s.push_str(&format!("{{\"frame_index\": {}", f.frame_index));
+            if let Some(n) = name {
+                s.push_str(&format!(", \"name\": {}", json_string(n)));
+            }
+            s.push_str(&format!(
+                ", \"decision\": \"{}\", \"vertices\": {}, \"triangles\": {}, \"dof\": {}, \
+                 \"ms\": {{\"vsm\": {}, \"mesh\": {}, \"solve\": {}, \"render\": {}, \"total\": {}}}}}",
+                decision_name(f.decision),
+                f.vertices,
+                f.triangles,
+                f.dof,
+                json_number(t.vsm_ms),
+                json_number(t.mesh_ms),
+                json_number(t.solve_ms),
+                json_number(t.render_ms),
+                json_number(t.total_ms()),
+            ));
+        }
+        s.push_str(if frames.is_empty() { "]" } else { "\n  ]" });
+        if let Some(r) = summary {
+            let secs = r.elapsed.as_secs_f64();
+            s.push_str(&format!(
+                ",\n  \"summary\": {{\"frames\": {}, \"seconds\": {}, \"fps\": {}, \"reused\": {}, \
+                 \"updated\": {}, \"rebuilt\": {}, \"output_closed\": {}, \"cancelled\": {}}}",
+                r.frames,
+                json_number(secs),
+                json_number(if secs > 0.0 { r.frames as f64 / secs } else { 0.0 }),
+                r.reused,
+                r.updated,
+                r.rebuilt,
+                r.output_closed,
+                r.cancelled
+            ));
+        }
+        s.push_str("\n}\n");
+        vizretarget::io::write_atomic(path, s.as_bytes())?;
+        Ok(())
+    }
+}
+
+impl Progress for Reporter {
+    fn frame_done(&self, stats: &FrameStats) {
+        if let Some(bar) = &self.bar {
+            bar.inc(1);
+        }
+        let name = self.names.as_ref().and_then(|n| n.get(stats.frame_index));
+        let t = &stats.times;
+        match &self.per_frame {
+            PerFrame::Nothing => {}
+            PerFrame::Stats => self.print(format!(
+                "frame {}{}: {}, {} vertices, {} triangles, DOF {}; vsm {:.1} ms, mesh {:.1} ms, \
+                 solve {:.1} ms, render {:.1} ms",
+                stats.frame_index,
+                name.as_deref()
+                    .map_or_else(String::new, |n| format!(" ({n})")),
+                decision_name(stats.decision),
+                stats.vertices,
+                stats.triangles,
+                stats.dof,
+                t.vsm_ms,
+                t.mesh_ms,
+                t.solve_ms,
+                t.render_ms
+            )),
+            PerFrame::Written(dir) => {
+                if let Some(n) = &name {
+                    self.print(format!(
+                        "vizretarget: {n} -> {} ({}, {:.0} ms)",
+                        dir.join(output_name(n).0).display(),
+                        decision_name(stats.decision),
+                        t.total_ms()
+                    ));
+                }
+            }
+        }
+        if self.keep {
+            self.frames
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push((stats.clone(), name));
+        }
+    }
+}
+
+pub fn decision_name(d: Decision) -> &'static str {
+    match d {
+        Decision::Rebuild => "rebuild",
+        Decision::Update => "update",
+        Decision::Reuse => "reuse",
+    }
+}
+
+/// The one-line summary of a run.
+pub fn summary_line(r: &RunSummary, from: Option<Size>, to: Size) -> String {
+    let secs = r.elapsed.as_secs_f64();
+    let n = r.frames.max(1) as f64;
+    let pct = |k: u64| 100.0 * k as f64 / n;
+    let t = &r.stage_ms;
+    format!(
+        "vizretarget: {} frame{}{} in {:.2} s ({:.1} fps); reused {:.0}%, updated {:.0}%, \
+         rebuilt {:.0}%; per frame: vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms{}",
+        r.frames,
+        if r.frames == 1 { "" } else { "s" },
+        from.map_or_else(|| format!(" -> {to}"), |f| format!(", {f} -> {to},")),
+        secs,
+        if secs > 0.0 {
+            r.frames as f64 / secs
+        } else {
+            0.0
+        },
+        pct(r.reused),
+        pct(r.updated),
+        pct(r.rebuilt),
+        t.vsm_ms / n,
+        t.mesh_ms / n,
+        t.solve_ms / n,
+        t.render_ms / n,
+        if r.cancelled {
+            " (stopped by Ctrl-C)"
+        } else {
+            ""
+        },
+    )
+}
+
+fn json_number(x: f64) -> String {
+    if x.is_finite() {
+        format!("{:.3}", x)
+    } else {
+        "null".into()
+    }
+}
+
+fn json_string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_strings_are_escaped() {
+        assert_eq!(json_string("a\"b\\c\n\u{1}é"), "\"a\\\"b\\\\c\\n\\u0001é\"");
+        assert_eq!(json_number(f64::NAN), "null");
+        assert_eq!(json_number(1.5), "1.500");
+    }
+}

@@ -1,0 +1,97 @@
+//! One picture in, one picture out: the still job.
+
+use super::Cli;
+use anyhow::{bail, Context, Result};
+use std::path::Path;
+use vizretarget::io::{read_still, write_still, OutputFormat};
+use vizretarget::{debug, retarget, Options, Retargeted, Size};
+
+/// Runs the still-image job: one picture in, one out, exactly as before streams existed.
+pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Result<()> {
+    // Fail before the work, not after it: the output's folder must exist.
+    let out_dir = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !out_dir.is_dir() {
+        bail!(
+            "{}: the output folder {} does not exist",
+            output.display(),
+            out_dir.display()
+        );
+    }
+    let options = Options::default()
+        .with_alpha(cli.alpha)
+        .with_analysis(cli.debug_dir.is_some());
+    options.validate()?;
+    if cli.size.is_none() && cli.width.is_none() && cli.height.is_none() {
+        bail!("no target size: give --size WxH, or --width N and/or --height N");
+    }
+    let image = read_still(input)?;
+    let (w, h) = match (cli.size, cli.width, cli.height) {
+        (Some(s), _, _) => s,
+        (None, w, h) => (w.unwrap_or(image.width()), h.unwrap_or(image.height())),
+    };
+    let target = Size::new(w, h)?;
+    let out = retarget(&image, target, &options)?;
+    write_still(&out.image, output, format)?;
+    if let Some(dir) = &cli.debug_dir {
+        write_debug(dir, &image, &out)?;
+    }
+    if cli.stats {
+        print_stats(input, image.size(), &out);
+    }
+    Ok(())
+}
+
+fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let a = out.analysis.as_ref().context("analysis was not kept")?;
+    let pictures = [
+        ("vsm.png", debug::vsm_image(&a.vsm)),
+        ("levels.png", debug::levels_image(&a.vsm)),
+        (
+            "mesh-before.png",
+            debug::mesh_overlay(input, a.mesh.vertices(), a.mesh.triangles()),
+        ),
+        (
+            "mesh-after.png",
+            debug::mesh_overlay(&out.image, a.warp.positions(), a.mesh.triangles()),
+        ),
+    ];
+    for (name, img) in pictures {
+        write_still(&img, &dir.join(name), OutputFormat::Png)?;
+    }
+    Ok(())
+}
+
+fn print_stats(input: &Path, from: Size, out: &Retargeted) {
+    let s = &out.stats;
+    let t = &s.times;
+    eprintln!(
+        "{}: {} -> {}: {} vertices, {} triangles, DOF {}, {} unknowns; \
+         vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
+         folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}",
+        input.display(),
+        from,
+        out.image.size(),
+        s.vertices,
+        s.triangles,
+        s.dof,
+        s.solve.unknowns,
+        t.vsm_ms,
+        t.mesh_ms,
+        t.solve_ms,
+        t.render_ms,
+        t.total_ms(),
+        s.solve.folds_first_solve,
+        s.solve.repair_rounds,
+        s.solve.untangled,
+        s.solve.blend,
+        if s.solve.blend_global {
+            " (global)"
+        } else {
+            ""
+        },
+    );
+}

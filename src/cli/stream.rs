@@ -1,0 +1,142 @@
+//! A stream of frames in, a stream out, through [`Pipeline::run`].
+
+use super::report::{summary_line, PerFrame, Reporter};
+use super::{interrupt, library_error, Outcome};
+use crate::cli::args::{Cli, InputArg};
+use anyhow::{bail, Context, Result};
+use std::io::IsTerminal;
+use std::path::Path;
+use std::sync::atomic::Ordering;
+use vizretarget::io::{
+    is_std, open_input, open_sink, FrameRate, InputFormat, SinkFormat, SinkOptions,
+};
+use vizretarget::stream::Progress;
+use vizretarget::{Options, Pipeline, Size};
+
+pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> Result<Outcome> {
+    let args = &cli.stream;
+    check_output_place(output, format)?;
+    if is_std(output) && format != SinkFormat::PngSeq && std::io::stdout().is_terminal() {
+        bail!(
+            "refusing to write binary frames to a terminal: pipe stdout into a program \
+             (| ffplay -) or give -o FILE"
+        );
+    }
+    if cli.debug_dir.is_some() {
+        bail!("--debug-dir is for one picture; for a stream, retarget single frames with it");
+    }
+    let options = Options::default().with_alpha(cli.alpha);
+    options.validate().map_err(library_error)?;
+    if format == SinkFormat::PngSeq && !is_std(input_path) && same_folder(input_path, output) {
+        bail!(
+            "{}: writing into the input folder would replace the input frames; choose another \
+             output folder",
+            output.display()
+        );
+    }
+    let input_size = args.input_size.map(|(w, h)| Size::new(w, h)).transpose()?;
+    let input_format = match args.input_format {
+        InputArg::Auto => InputFormat::Auto,
+        InputArg::Rgba => InputFormat::Rgba,
+        InputArg::Rgb24 => InputFormat::Rgb24,
+        InputArg::Y4m => InputFormat::Y4m,
+        InputArg::Png => InputFormat::PngStream,
+    };
+    let mut input = open_input(input_path, input_format, input_size).map_err(library_error)?;
+    let from = match (cli.size, cli.width, cli.height) {
+        (Some(_), _, _) | (None, Some(_), Some(_)) => input.known_size(),
+        _ => input.frame_size()?,
+    };
+    let target = match (cli.size, cli.width, cli.height, from) {
+        (Some((w, h)), _, _, _) => Size::new(w, h)?,
+        (None, Some(w), Some(h), _) => Size::new(w, h)?,
+        (None, w, h, Some(f)) => Size::new(w.unwrap_or(f.width), h.unwrap_or(f.height))?,
+        (None, _, _, None) => bail!("{}: no frames", input_path.display()),
+    };
+    let frame_rate = match args.fps {
+        Some(f) => Some(FrameRate::from_fps(f).context("--fps is out of range")?),
+        None => input.frame_rate,
+    };
+    let sink_options = SinkOptions {
+        frame_rate,
+        repeat: input.source.repeat(),
+        names: input.names.clone(),
+    };
+    let mut sink = open_sink(output, format, sink_options)?;
+    let cancel = interrupt::cancel_flag()?;
+    let reporter = Reporter::new(
+        input.source.len_hint(),
+        args.quiet,
+        if cli.stats {
+            PerFrame::Stats
+        } else {
+            PerFrame::Nothing
+        },
+        input.names.clone(),
+        args.stats_json.is_some(),
+    );
+    let result = Pipeline::run(
+        target,
+        &options,
+        &mut *input.source,
+        &mut *sink,
+        &reporter as &dyn Progress,
+        &cancel,
+    );
+    reporter.finish();
+    if let Some(path) = &args.stats_json {
+        reporter
+            .write_json(path, result.as_ref().ok())
+            .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
+    }
+    let summary = result.map_err(library_error)?;
+    let interrupted = cancel.load(Ordering::SeqCst);
+    if summary.frames == 0 && !interrupted && !summary.output_closed {
+        bail!("{}: no frames", input_path.display());
+    }
+    if !args.quiet && !summary.output_closed {
+        eprintln!("{}", summary_line(&summary, from, target));
+    }
+    Ok(if interrupted {
+        Outcome::Interrupted
+    } else {
+        Outcome::Done
+    })
+}
+
+/// Fails before the work if the output cannot be written where asked.
+fn check_output_place(output: &Path, format: SinkFormat) -> Result<()> {
+    if is_std(output) {
+        return Ok(());
+    }
+    let parent = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if format == SinkFormat::PngSeq {
+        if output.exists() && !output.is_dir() {
+            bail!("{}: exists and is not a folder", output.display());
+        }
+    } else if output.is_dir() {
+        bail!(
+            "{}: is a folder; give a file name, or --output-format png-seq",
+            output.display()
+        );
+    }
+    if !parent.is_dir() {
+        bail!(
+            "{}: the output folder {} does not exist",
+            output.display(),
+            parent.display()
+        );
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same existing folder.
+pub fn same_folder(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}
