@@ -22,6 +22,7 @@ mod image;
 mod raster;
 mod retargeter;
 
+pub mod baseline;
 pub mod debug;
 pub mod io;
 pub mod mesh;
@@ -30,6 +31,7 @@ pub mod saliency;
 pub mod solve;
 pub mod stream;
 
+pub use baseline::{retarget_with, Method, MethodOutput};
 pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
 pub use mesh::{Mesh, MeshOptions};
