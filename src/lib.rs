@@ -23,8 +23,10 @@ mod raster;
 mod retargeter;
 
 pub mod baseline;
+pub mod compare;
 pub mod debug;
 pub mod io;
+pub mod metrics;
 pub mod mesh;
 pub mod render;
 pub mod saliency;

@@ -1,0 +1,274 @@
+//! The metrics (their definitions on cases with known answers, and mesh against linear on a
+//! scatter) and the comparison sheet (layout, labels set with the font, mesh overlay).
+
+use vizretarget::baseline::Mapping;
+use vizretarget::compare::{compare, compare_methods, sheet, text_width, SheetOptions};
+use vizretarget::metrics::{measure, MetricsTable};
+use vizretarget::{retarget_with, Image, Method, Options, Size};
+
+const WHITE: [u8; 4] = [255, 255, 255, 255];
+const RED: [u8; 4] = [215, 25, 28, 255];
+const BLUE: [u8; 4] = [44, 123, 182, 255];
+
+fn size(w: u32, h: u32) -> Size {
+    Size::new(w, h).unwrap()
+}
+
+fn disc(img: &mut Image, cx: f32, cy: f32, r: f32, c: [u8; 4]) {
+    for y in 0..img.height() {
+        for x in 0..img.width() {
+            let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+            if dx * dx + dy * dy <= r * r {
+                img.set(x, y, c);
+            }
+        }
+    }
+}
+
+/// Discs spread over a white canvas, a few px of margin each side.
+fn scatter(w: u32, h: u32, n: u32) -> Image {
+    let mut img = Image::filled(size(w, h), WHITE);
+    let mut k = 0u32;
+    for j in 0..n {
+        for i in 0..n {
+            let cx = (i as f32 + 0.5) * w as f32 / n as f32;
+            let cy = (j as f32 + 0.5) * h as f32 / n as f32;
+            disc(
+                &mut img,
+                cx,
+                cy,
+                6.0 + (k % 3) as f32,
+                if k.is_multiple_of(2) { RED } else { BLUE },
+            );
+            k += 1;
+        }
+    }
+    img
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+/// Linear scaling to half the width: a constant Jacobian diag(0.5, 1), so the distortion is
+/// |0.5 − 1|/√2 / 0.75 and the salient area halves, exactly.
+#[test]
+fn linear_half_width_has_the_analytic_measures() {
+    let img = scatter(240, 160, 4);
+    let out = retarget_with(Method::Linear, &img, size(120, 160), &Options::default()).unwrap();
+    let m = measure(&img, &out);
+    let want = 0.5 / 2f64.sqrt() / 0.75;
+    assert!(close(m.distortion.unwrap(), want, 1e-12), "{m:?}");
+    assert!(close(m.salient_area_kept.unwrap(), 0.5, 1e-12), "{m:?}");
+    assert!(m.vertices.is_none() && m.dof.is_none());
+    // Uniform scaling has no distortion, and keeps the area by the square of the scale.
+    let out = retarget_with(Method::Linear, &img, size(120, 80), &Options::default()).unwrap();
+    let m = measure(&img, &out);
+    assert!(close(m.distortion.unwrap(), 0.0, 1e-12));
+    assert!(close(m.salient_area_kept.unwrap(), 0.25, 1e-12));
+}
+
+/// A crop at scale 1 that holds every mark keeps all salient area, undistorted, and all the
+/// saliency there was (the window holds every salient pixel; the empty rest adds nothing).
+#[test]
+fn crop_holding_all_marks_keeps_everything() {
+    let mut img = Image::filled(size(300, 100), WHITE);
+    disc(&mut img, 200.0, 50.0, 10.0, RED);
+    disc(&mut img, 240.0, 30.0, 8.0, BLUE);
+    let out = retarget_with(Method::Crop, &img, size(120, 100), &Options::default()).unwrap();
+    let m = measure(&img, &out);
+    assert_eq!(m.distortion, Some(0.0));
+    assert!(close(m.salient_area_kept.unwrap(), 1.0, 1e-12), "{m:?}");
+    assert!(close(m.saliency_kept, 1.0, 0.05), "{m:?}");
+}
+
+/// The same size through the mesh is the identity: no distortion, all area kept.
+#[test]
+fn mesh_at_the_same_size_measures_as_the_identity() {
+    let img = scatter(200, 120, 3);
+    let out = retarget_with(Method::Mesh, &img, img.size(), &Options::default()).unwrap();
+    let m = measure(&img, &out);
+    assert!(m.distortion.unwrap() < 1e-3, "{m:?}");
+    assert!(close(m.salient_area_kept.unwrap(), 1.0, 1e-3), "{m:?}");
+    assert!(close(m.saliency_kept, 1.0, 1e-6), "{m:?}");
+    assert!(m.vertices.unwrap() > 4 && m.dof.unwrap() > 0);
+}
+
+/// Seam carving that removes only empty columns keeps every salient pixel, undistorted.
+#[test]
+fn seam_carving_through_empty_space_keeps_the_marks() {
+    let mut img = Image::filled(size(300, 80), WHITE);
+    disc(&mut img, 60.0, 40.0, 9.0, RED);
+    disc(&mut img, 240.0, 40.0, 9.0, BLUE);
+    let out = retarget_with(Method::Seam, &img, size(200, 80), &Options::default()).unwrap();
+    let m = measure(&img, &out);
+    assert!(close(m.salient_area_kept.unwrap(), 1.0, 1e-12), "{m:?}");
+    assert!(m.distortion.unwrap() < 0.05, "{m:?}");
+}
+
+/// On a scatter halved in width, the mesh keeps the discs near their size and round; linear
+/// scaling halves and squashes them.
+#[test]
+fn mesh_beats_linear_on_a_scatter() {
+    let img = scatter(480, 240, 5);
+    let c = compare_methods(
+        &img,
+        size(240, 240),
+        &Options::default(),
+        &[Method::Mesh, Method::Linear, Method::Grid],
+    )
+    .unwrap();
+    let mesh = c.metrics.row(Method::Mesh).unwrap();
+    let linear = c.metrics.row(Method::Linear).unwrap();
+    assert!(
+        mesh.salient_area_kept.unwrap() > 0.8 && linear.salient_area_kept.unwrap() < 0.55,
+        "{}",
+        c.metrics
+    );
+    assert!(
+        mesh.distortion.unwrap() < 0.5 * linear.distortion.unwrap(),
+        "{}",
+        c.metrics
+    );
+    assert!(mesh.saliency_kept > linear.saliency_kept, "{}", c.metrics);
+    assert!(mesh.saliency_mean > linear.saliency_mean, "{}", c.metrics);
+}
+
+#[test]
+fn table_prints_aligned_and_serializes() {
+    let img = scatter(160, 100, 3);
+    let c = compare(&img, size(90, 100), &Options::default()).unwrap();
+    let text = c.metrics.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    // A title, a header and one row per method, in order.
+    assert_eq!(lines.len(), 2 + Method::ALL.len(), "{text}");
+    assert!(lines[1].starts_with("method") && lines[1].contains("DOF"));
+    let width = lines[1].len();
+    for (line, m) in lines[2..].iter().zip(Method::ALL) {
+        assert!(line.starts_with(m.name()), "{line}");
+        assert_eq!(line.len(), width, "aligned:\n{text}");
+    }
+    let json: serde_json::Value = serde_json::from_str(&c.metrics.to_json().to_string()).unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), Method::ALL.len());
+    assert_eq!(rows[0]["method"], "mesh");
+    assert!(rows[0]["vertices"].as_u64().unwrap() > 0);
+    assert!(rows[4]["vertices"].is_null(), "seam has no mesh");
+    assert_eq!(json["target"]["width"], 90);
+    for r in rows {
+        assert!(r["saliency_mean"].as_f64().unwrap() >= 0.0);
+        assert!(r["ms"]["total"].as_f64().unwrap() >= 0.0);
+    }
+    assert_eq!(
+        MetricsTable::measure(&img, &c.outputs).rows.len(),
+        Method::ALL.len()
+    );
+}
+
+/// Where the original's pixels appear in the sheet (top-left corner), found by matching its
+/// first row.
+fn find(sheet: &Image, img: &Image) -> Option<(u32, u32)> {
+    let (w, h) = (img.width(), img.height());
+    for y in 0..=sheet.height().saturating_sub(h) {
+        for x in 0..=sheet.width().saturating_sub(w) {
+            if sheet.row(y)[x as usize..(x + w) as usize] == *img.row(0)
+                && (0..h).all(|j| sheet.row(y + j)[x as usize..(x + w) as usize] == *img.row(j))
+            {
+                return Some((x, y));
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn sheet_shows_every_panel_with_a_set_label() {
+    let img = scatter(160, 100, 3);
+    let c = compare(&img, size(90, 100), &Options::default()).unwrap();
+    let opts = SheetOptions::default();
+    let s = c.sheet(&img, &opts);
+    // The original and every output appear pixel for pixel (no scaling at this size).
+    let (ox, oy) = find(&s, &img).expect("original on the sheet");
+    for o in &c.outputs {
+        assert!(find(&s, &o.image).is_some(), "{} on the sheet", o.method);
+    }
+    // Corners are background.
+    assert_eq!(s.get(0, 0), opts.background);
+    assert_eq!(s.get(s.width() - 1, s.height() - 1), opts.background);
+    // The label above the original: dark ink with anti-aliased (intermediate) edges, over
+    // about the width the font gives the text, and nothing right of it.
+    let label_w = text_width("original 160×100", opts.font_px).ceil() as u32;
+    assert!(label_w > 80 && label_w < 200, "{label_w}");
+    let (mut dark, mut grey, mut right) = (0, 0, 0);
+    let mut last_ink = 0;
+    for y in 0..oy.saturating_sub(2) {
+        for x in ox..ox + img.width() + 2 {
+            let p = s.get(x, y);
+            if p == opts.background {
+                continue;
+            }
+            if p[0] < 80 {
+                dark += 1;
+            } else {
+                grey += 1;
+            }
+            last_ink = last_ink.max(x);
+            if x > ox + label_w + 2 {
+                right += 1;
+            }
+        }
+    }
+    assert!(dark > 50 && grey > 50, "dark {dark} grey {grey}");
+    assert_eq!(right, 0, "ink right of the label's advance width");
+    assert!(last_ink + 6 >= ox + label_w, "{last_ink} vs {label_w}");
+}
+
+#[test]
+fn mesh_overlay_marks_only_mesh_panels_and_rows_wrap() {
+    let img = scatter(160, 100, 3);
+    let c = compare(&img, size(90, 100), &Options::default()).unwrap();
+    let plain = sheet(&img, &c.outputs, None, &SheetOptions::default());
+    let overlay = sheet(
+        &img,
+        &c.outputs,
+        None,
+        &SheetOptions {
+            mesh_overlay: true,
+            ..SheetOptions::default()
+        },
+    );
+    assert_eq!(plain.size(), overlay.size());
+    for o in &c.outputs {
+        let shown = find(&overlay, &o.image).is_some();
+        assert_eq!(
+            shown,
+            !matches!(o.mapping, Mapping::Warp { .. }),
+            "{} drawn {} overlay",
+            o.method,
+            if shown { "without" } else { "with" }
+        );
+    }
+    // Narrow sheets wrap into rows: taller and narrower.
+    let narrow = sheet(
+        &img,
+        &c.outputs,
+        None,
+        &SheetOptions {
+            max_width: 400,
+            ..SheetOptions::default()
+        },
+    );
+    assert!(narrow.width() <= 400 && narrow.height() > 2 * plain.height());
+    assert!(find(&narrow, &img).is_some(), "still unscaled");
+    // A panel wider than the sheet allows scales the whole sheet down.
+    let tiny = sheet(
+        &img,
+        &c.outputs,
+        None,
+        &SheetOptions {
+            max_width: 120,
+            ..SheetOptions::default()
+        },
+    );
+    assert!(tiny.width() <= 120, "{}", tiny.width());
+}
