@@ -22,7 +22,7 @@ use super::pipe::write_error;
 use super::quantize::{build_palette, pack, Quantizer, MAX_COLORS};
 use super::y4m::FrameRate;
 use crate::error::Error;
-use crate::image::Size;
+use crate::image::{Image, Size};
 use crate::retargeter::Retargeted;
 use crate::stream::{FrameSink, Repeat};
 use gif::DisposalMethod;
@@ -235,12 +235,10 @@ impl<W: Write + Send> GifSink<W> {
     }
 
     /// Delay of the next frame in centiseconds, carrying the rounding error.
-    fn delay_cs(&mut self, frame: &Retargeted) -> u16 {
+    fn delay_cs(&mut self, duration_ms: Option<u32>) -> u16 {
         let ms = match self.options.frame_rate {
             Some(r) => 1000.0 * r.den as f64 / r.num as f64,
-            None => frame
-                .duration_ms
-                .unwrap_or(self.options.default_duration_ms) as f64,
+            None => duration_ms.unwrap_or(self.options.default_duration_ms) as f64,
         };
         let start = (self.clock_ms / 10.0).round();
         self.clock_ms += ms;
@@ -293,9 +291,12 @@ impl<W: Write + Send> GifSink<W> {
     }
 }
 
-impl<W: Write + Send> FrameSink for GifSink<W> {
-    fn write_frame(&mut self, frame: &Retargeted) -> Result<(), Error> {
-        let img = &frame.image;
+impl<W: Write + Send> GifSink<W> {
+    /// Adds one picture shown for `duration_ms` (or as [`GifOptions`] says). This is what
+    /// [`FrameSink::write_frame`] does with a retargeted frame; it also writes plain pictures
+    /// as an animation.
+    pub fn add_frame(&mut self, img: &Image, duration_ms: Option<u32>) -> Result<(), Error> {
+        let frame_index = self.frames;
         let size = img.size();
         let (w, h) = (size.width as usize, size.height as usize);
         let first = self.size.is_none();
@@ -325,14 +326,14 @@ impl<W: Write + Send> FrameSink for GifSink<W> {
             }
             Some(s) if s != size => {
                 return Err(Error::FrameSizeMismatch {
-                    frame_index: frame.frame_index,
+                    frame_index,
                     expected: s,
                     got: size,
                 })
             }
             Some(_) => {}
         }
-        let delay_cs = self.delay_cs(frame);
+        let delay_cs = self.delay_cs(duration_ms);
         let px = img.pixels();
 
         // What changed, and which pixels turn transparent over opaque ones.
@@ -440,6 +441,12 @@ impl<W: Write + Send> FrameSink for GifSink<W> {
         self.frames += 1;
         Ok(())
     }
+}
+
+impl<W: Write + Send> FrameSink for GifSink<W> {
+    fn write_frame(&mut self, frame: &Retargeted) -> Result<(), Error> {
+        self.add_frame(&frame.image, frame.duration_ms)
+    }
 
     fn finish(&mut self) -> Result<(), Error> {
         if self.frames == 0 {
@@ -472,7 +479,6 @@ fn non_empty(mut p: Vec<[u8; 3]>) -> Vec<[u8; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::image::Image;
 
     /// Decodes a GIF as a browser shows it (through our own GIF reader).
     fn decode(bytes: &[u8]) -> (Vec<crate::Frame>, Option<Repeat>) {
@@ -573,6 +579,72 @@ mod tests {
         assert_eq!(back.len(), 4);
         for (x, y) in frames.iter().zip(&back) {
             assert_eq!(x.pixels(), y.image.pixels(), "frame {}", y.frame_index);
+        }
+    }
+
+    #[test]
+    fn new_colours_bring_a_new_palette_once_and_static_colours_stay() {
+        // A grey scene, then a rainbow appears over a third of it and stays.
+        let size = Size::new(90, 60).unwrap();
+        let grey = |x: u32| [(x * 255 / 89) as u8; 3];
+        let mut frames = Vec::new();
+        for t in 0..6 {
+            let mut img = Image::new(size);
+            for y in 0..60 {
+                for x in 0..90u32 {
+                    let g = grey(x);
+                    let c = if t >= 2 && y < 20 {
+                        [
+                            (x * 255 / 89) as u8,
+                            (y * 12) as u8,
+                            (255 - x * 255 / 89) as u8,
+                        ]
+                    } else {
+                        g
+                    };
+                    img.set(x, y, [c[0], c[1], c[2], 255]);
+                }
+            }
+            frames.push(img);
+        }
+        let mut sink = GifSink::new(Vec::new(), "mem.gif", GifOptions::default());
+        for f in &frames {
+            sink.add_frame(f, None).unwrap();
+        }
+        sink.finish().unwrap();
+        assert_eq!(
+            sink.palettes_built(),
+            2,
+            "one update, when the rainbow came"
+        );
+        let (back, _) = decode(&sink.into_inner().unwrap());
+        assert_eq!(back.len(), 6);
+        for (a, b) in frames.iter().zip(&back) {
+            // Means over 8x8 tiles stay close to the input everywhere.
+            for ty in 0..7 {
+                for tx in 0..11 {
+                    for k in 0..3 {
+                        let (mut sa, mut sb) = (0i32, 0i32);
+                        for y in ty * 8..ty * 8 + 8 {
+                            for x in tx * 8..tx * 8 + 8 {
+                                sa += a.get(x, y)[k] as i32;
+                                sb += b.image.get(x, y)[k] as i32;
+                            }
+                        }
+                        assert!(
+                            (sa - sb).abs() <= 64 * 6,
+                            "frame {} tile {tx},{ty}",
+                            b.frame_index
+                        );
+                    }
+                }
+            }
+        }
+        // The grey part below the rainbow is the same in every frame.
+        for f in &back[1..] {
+            for y in 20..60 {
+                assert_eq!(f.image.row(y), back[0].image.row(y));
+            }
         }
     }
 

@@ -13,12 +13,14 @@
 //! entries: its nearest `p1` and the entry `p2` whose segment from `p1` passes closest to it,
 //! in proportion `f` (the position of the colour along the segment) through an 8x8 Bayer
 //! matrix. A penalty on the mix's own variance keeps far-apart entries from being mixed.
-//! Colours within about 2 levels of an entry are not dithered. That gives smooth gradients
+//! Colours within a level of an entry are not dithered. That gives smooth gradients
 //! with no banding and clean flat areas.
 //!
-//! **Speed.** The two-entry mix is computed once per 6-bit-per-channel cell of RGB space
-//! (lazily, in a 64³ table), exact palette colours by a hash lookup, and runs of equal pixels
-//! reuse the last answer.
+//! **Speed.** Each distinct colour's mix is computed once and kept in a hash map; it searches
+//! only the 8 entries nearest to the colour's 6-bit-per-channel cell of RGB space (kept, lazily,
+//! in a 64³ table), not the whole palette. Runs of equal pixels reuse the last answer.
+//! Computing the mix per cell instead of per colour was tried first: it is faster but turns a
+//! gradient into 4-level steps, visible as bands on dark gradients.
 
 use quantette::deps::palette::Srgb;
 use quantette::wu::{BinnerU8x3, WuU8x3};
@@ -33,8 +35,9 @@ pub(crate) const MAX_COLORS: usize = 255;
 /// sensitive to green, least to blue).
 const WEIGHT: [f32; 3] = [std::f32::consts::SQRT_2, 2.0, 1.732_050_8];
 
-/// Below this weighted squared distance to an entry a colour is not dithered (~2 levels).
-const EXACT_D2: f32 = 25.0;
+/// Below this weighted squared distance to an entry a colour is not dithered (one level off
+/// in one channel): JPEG noise on a flat background does not turn into speckles.
+const EXACT_D2: f32 = 6.0;
 
 /// Penalty on mixing two entries far apart, times the mixture's variance.
 const MIX_PENALTY: f32 = 0.05;
@@ -142,10 +145,18 @@ pub(crate) fn build_palette(pixels: &[[u8; 4]], max: usize) -> Vec<[u8; 3]> {
 pub(crate) struct Quantizer {
     colors: Vec<[u8; 3]>,
     weighted: Vec<[f32; 3]>,
-    exact: ColorMap<u8>,
-    /// Per 6-bit cell: 0 = not computed yet, else `1 << 23 | residual << 24 | f << 16 | p2 << 8 | p1`.
-    lut: Vec<u32>,
+    /// Mixes of the colours seen so far (palette colours map to themselves).
+    memo: ColorMap<Mix>,
+    /// Per 6-bit cell: 0 = not computed yet, else 1 + the index of its candidates.
+    cells: Vec<u32>,
+    candidates: Vec<[u8; CANDIDATES]>,
 }
+
+/// Entries considered for the colours of one cell.
+const CANDIDATES: usize = 8;
+
+/// The memo is cleared past this many colours (a photo-like stream), bounding memory.
+const MAX_MEMO: usize = 1 << 20;
 
 /// One colour's answer: two entries, the share of the second, and how far the mix is from
 /// the colour (weighted units).
@@ -181,17 +192,25 @@ impl Quantizer {
             .iter()
             .map(|&c| weigh([c[0] as f32, c[1] as f32, c[2] as f32]))
             .collect();
-        let exact = colors
-            .iter()
-            .enumerate()
-            .rev() // the first of duplicates wins
-            .map(|(i, &c)| (pack([c[0], c[1], c[2], 0]), i as u8))
-            .collect();
-        Quantizer {
+        let mut q = Quantizer {
             colors,
             weighted,
-            exact,
-            lut: vec![0; 1 << 18],
+            memo: ColorMap::default(),
+            cells: vec![0; 1 << 18],
+            candidates: Vec::new(),
+        };
+        q.remember_palette();
+        q
+    }
+
+    fn remember_palette(&mut self) {
+        self.memo.clear();
+        // The first of duplicates wins.
+        for (i, &c) in self.colors.iter().enumerate().rev() {
+            self.memo.insert(
+                pack([c[0], c[1], c[2], 0]),
+                Mix::new(i as u8, i as u8, 0, 0),
+            );
         }
     }
 
@@ -214,32 +233,59 @@ impl Quantizer {
     /// The mix for a packed colour (see [`pack`]).
     #[inline]
     pub(crate) fn mix(&mut self, c: u32) -> Mix {
-        if let Some(&i) = self.exact.get(&c) {
-            return Mix::new(i, i, 0, 0);
+        if let Some(&m) = self.memo.get(&c) {
+            return m;
         }
         let [r, g, b, _] = c.to_le_bytes();
         let cell = ((r as usize >> 2) << 12) | ((g as usize >> 2) << 6) | (b as usize >> 2);
-        let e = self.lut[cell];
-        if e != 0 {
-            return Mix(e);
+        if self.cells[cell] == 0 {
+            let centre = weigh([
+                (r >> 2) as f32 * 4.0 + 1.5,
+                (g >> 2) as f32 * 4.0 + 1.5,
+                (b >> 2) as f32 * 4.0 + 1.5,
+            ]);
+            self.candidates.push(self.nearest(centre));
+            self.cells[cell] = self.candidates.len() as u32;
         }
-        let centre = [
-            (r >> 2) as f32 * 4.0 + 1.5,
-            (g >> 2) as f32 * 4.0 + 1.5,
-            (b >> 2) as f32 * 4.0 + 1.5,
-        ];
-        let m = self.compute(weigh(centre));
-        self.lut[cell] = m.0;
+        let cands = self.candidates[self.cells[cell] as usize - 1];
+        let m = self.compute(weigh([r as f32, g as f32, b as f32]), &cands);
+        if self.memo.len() >= MAX_MEMO {
+            self.remember_palette();
+        }
+        self.memo.insert(c, m);
         m
     }
 
-    fn compute(&self, c: [f32; 3]) -> Mix {
-        let d2 = |p: &[f32; 3]| (0..3).map(|k| (c[k] - p[k]) * (c[k] - p[k])).sum::<f32>();
-        let (p1, d1) = self
-            .weighted
+    /// The entries nearest to `c` (repeating the last when the palette is smaller).
+    fn nearest(&self, c: [f32; 3]) -> [u8; CANDIDATES] {
+        let mut best = [(f32::INFINITY, 0u8); CANDIDATES];
+        for (i, p) in self.weighted.iter().enumerate() {
+            let d = d2(c, *p);
+            if d < best[CANDIDATES - 1].0 {
+                let mut k = CANDIDATES - 1;
+                while k > 0 && best[k - 1].0 > d {
+                    best[k] = best[k - 1];
+                    k -= 1;
+                }
+                best[k] = (d, i as u8);
+            }
+        }
+        let mut out = [0u8; CANDIDATES];
+        for k in 0..CANDIDATES {
+            out[k] = if best[k].0.is_finite() {
+                best[k].1
+            } else {
+                out[k.saturating_sub(1)]
+            };
+        }
+        out
+    }
+
+    /// The mix for `c` (weighted) among `cands`.
+    fn compute(&self, c: [f32; 3], cands: &[u8; CANDIDATES]) -> Mix {
+        let (p1, d1) = cands
             .iter()
-            .enumerate()
-            .map(|(i, p)| (i, d2(p)))
+            .map(|&i| (i as usize, d2(c, self.weighted[i as usize])))
             .fold(
                 (0, f32::INFINITY),
                 |best, x| if x.1 < best.1 { x } else { best },
@@ -251,10 +297,12 @@ impl Quantizer {
         let a = self.weighted[p1];
         let e = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
         let (mut best, mut best_score, mut best_perp) = ((p1, 0.0f32), d1, d1);
-        for (j, q) in self.weighted.iter().enumerate() {
+        for &j in cands {
+            let j = j as usize;
             if j == p1 {
                 continue;
             }
+            let q = self.weighted[j];
             let v = [q[0] - a[0], q[1] - a[1], q[2] - a[2]];
             let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
             if len2 <= 0.0 {
@@ -277,6 +325,10 @@ impl Quantizer {
         let f = (best.1 * 64.0).round() as u8;
         Mix::new(p1 as u8, best.0 as u8, f.min(64), residual(best_perp))
     }
+}
+
+fn d2(a: [f32; 3], b: [f32; 3]) -> f32 {
+    (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum()
 }
 
 fn weigh(c: [f32; 3]) -> [f32; 3] {
