@@ -120,3 +120,42 @@ impl FrameSource for DirSource {
         Some(self.files.len() - self.next)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Image;
+
+    fn save(path: &Path, w: u32) {
+        let img = Image::filled(Size::new(w, 4).unwrap(), [9, 9, 9, 255]);
+        super::super::still::write_still(&img, path, super::super::still::OutputFormat::Png)
+            .unwrap();
+    }
+
+    #[test]
+    fn natural_order_by_content_and_vanished_files_are_named() {
+        let dir = tempfile::tempdir().unwrap();
+        for n in ["f10.png", "f2.png", "f1.png", "f3"] {
+            save(&dir.path().join(n), 4);
+        }
+        std::fs::write(dir.path().join("f0.png"), b"text, not a picture").unwrap();
+        std::fs::write(dir.path().join(".f0.png"), b"hidden").unwrap();
+        let mut src = DirSource::open(dir.path()).unwrap();
+        let names: Vec<_> = src
+            .files()
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["f1.png", "f2.png", "f3", "f10.png"]);
+        assert_eq!(src.len_hint(), Some(4));
+        let first = src.next_frame().unwrap().unwrap();
+        assert_eq!(
+            (first.frame_index, src.names().get(0).as_deref()),
+            (0, Some("f1.png"))
+        );
+        std::fs::remove_file(dir.path().join("f2.png")).unwrap();
+        let e = src.next_frame().unwrap_err().to_string();
+        assert!(e.contains("f2.png") && e.contains("disappeared"), "{e}");
+        assert_eq!(src.len_hint(), Some(2));
+    }
+}

@@ -5,12 +5,15 @@
 //! frame, so the frames go through the same [`crate::Pipeline`] as any stream and the mesh and
 //! solution are reused between snapshots that barely change.
 //!
-//! - **Never half-written.** A file is read only when its writer is done: after a close-write
-//!   event (Linux inotify), or when no event came for the settle time (200 ms by default);
-//!   either way its size and modification time must not have changed since the last event.
-//!   A file renamed into the folder is complete by construction. If decoding still fails
-//!   (a writer that paused mid-file), the file is retried when it changes again, or after
-//!   another settle period, up to 5 times; then it is reported and skipped until it changes.
+//! - **Never half-written.** A file is read only when its writer is done: 25 ms after a
+//!   close-write event (or a rename into the folder: complete by construction). Where the
+//!   platform reports close-write (Linux inotify), a file written without one yet is waited
+//!   for up to 10 settle times (2 s by default: a writer that pauses longer than that without
+//!   closing is taken as done); elsewhere, and for files already there at the start, the file
+//!   must go unchanged for the settle time (200 ms by default). Either way its size and
+//!   modification time must not have changed since the last look, and must be the same after
+//!   the read as before. If decoding still fails, the file is retried when it changes again,
+//!   or after another wait, up to 5 times; then it is reported and skipped until it changes.
 //! - **Once each.** The (size, mtime, inode) of every file read is remembered; events that do
 //!   not change it (a reader opening the file, a touch of its permissions) are ignored. A
 //!   replaced snapshot has a new fingerprint and is read again.
@@ -86,14 +89,28 @@ fn fingerprint(m: &std::fs::Metadata) -> Fingerprint {
     }
 }
 
+/// What the events say about a file's writer.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum Writer {
+    /// Closed after writing, or renamed in: complete.
+    Closed,
+    /// Written to, not closed yet.
+    Open,
+    /// Present when watching started: nothing known.
+    Unknown,
+}
+
+/// Whether this platform's watcher reports close-write events.
+const REPORTS_CLOSE_WRITE: bool = cfg!(any(target_os = "linux", target_os = "android"));
+
 struct Candidate {
     path: PathBuf,
     /// Order of first appearance.
     seq: u64,
     /// Last event or observed change.
     changed_at: Instant,
-    /// A close-write or rename-in came after the last write.
-    closed: bool,
+    /// What is known about its writer.
+    state: Writer,
     /// Fingerprint when last looked at.
     seen: Option<Fingerprint>,
     attempts: u32,
@@ -188,27 +205,26 @@ impl WatchSource {
         }
         found.sort_by(|a, b| natural_cmp(&a.0, &b.0));
         for (_, path) in found {
-            // Nothing is known about the writers of files already there: wait the full
-            // settle time for them.
-            self.touch(path, false);
+            // Nothing is known about the writers of files already there.
+            self.touch(path, Writer::Unknown);
         }
         Ok(())
     }
 
     /// Records activity on `path`.
-    fn touch(&mut self, path: PathBuf, closed: bool) {
+    fn touch(&mut self, path: PathBuf, state: Writer) {
         let now = Instant::now();
         match self.candidates.iter_mut().find(|c| c.path == path) {
             Some(c) => {
                 c.changed_at = now;
-                c.closed = closed;
+                c.state = state;
             }
             None => {
                 self.candidates.push(Candidate {
                     path,
                     seq: self.next_seq,
                     changed_at: now,
-                    closed,
+                    state,
                     seen: None,
                     attempts: 0,
                 });
@@ -231,22 +247,22 @@ impl WatchSource {
             EventKind::Access(AccessKind::Close(AccessMode::Write)) => {
                 for p in paths {
                     if let Some(c) = self.candidates.iter_mut().find(|c| c.path == p) {
-                        c.closed = true;
+                        c.state = Writer::Closed;
                     } else {
-                        self.touch(p, true);
+                        self.touch(p, Writer::Closed);
                     }
                 }
             }
             EventKind::Modify(ModifyKind::Name(RenameMode::To)) => {
                 for p in paths {
-                    self.touch(p, true);
+                    self.touch(p, Writer::Closed);
                 }
             }
             EventKind::Modify(ModifyKind::Name(RenameMode::Both)) => {
                 // paths = [from, to]: the new name arrived complete.
                 if let Some(to) = event.paths.get(1) {
                     if is_snapshot(&self.dir, to) {
-                        self.touch(to.clone(), true);
+                        self.touch(to.clone(), Writer::Closed);
                     }
                 }
             }
@@ -255,7 +271,7 @@ impl WatchSource {
             }
             EventKind::Create(_) | EventKind::Modify(_) => {
                 for p in paths {
-                    self.touch(p, false);
+                    self.touch(p, Writer::Open);
                 }
             }
             _ => {}
@@ -272,6 +288,11 @@ impl WatchSource {
         let now = Instant::now();
         let settle = self.options.settle;
         let quick = settle / 8;
+        let open = if REPORTS_CLOSE_WRITE {
+            settle * 10
+        } else {
+            settle
+        };
         let mut wait = POLL;
         // Ready ones in order of readiness, then of appearance.
         self.candidates.sort_by_key(|c| (c.changed_at, c.seq));
@@ -311,7 +332,11 @@ impl WatchSource {
                 c.seen = Some(fp);
             }
             let quiet = now.saturating_duration_since(c.changed_at);
-            let needed = if c.closed { quick } else { settle };
+            let needed = match c.state {
+                Writer::Closed => quick,
+                Writer::Unknown => settle,
+                Writer::Open => open,
+            };
             if quiet < needed || fp.len == 0 {
                 wait = wait.min(needed.saturating_sub(quiet).max(Duration::from_millis(5)));
                 i += 1;
@@ -326,7 +351,7 @@ impl WatchSource {
                         let c = &mut self.candidates[i];
                         c.seen = after;
                         c.changed_at = Instant::now();
-                        c.closed = false;
+                        c.state = Writer::Open;
                         i += 1;
                         continue;
                     }
@@ -353,7 +378,7 @@ impl WatchSource {
                     let c = &mut self.candidates[i];
                     c.attempts += 1;
                     c.changed_at = Instant::now();
-                    c.closed = false;
+                    c.state = Writer::Unknown;
                     if c.attempts >= MAX_ATTEMPTS {
                         let c = self.candidates.remove(i);
                         self.done.insert(c.path, fp); // skip until it changes
