@@ -11,7 +11,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use std::time::Instant;
 use vizretarget::io::{GifOptions, GifSink};
 use vizretarget::stream::FrameSink;
-use vizretarget::{FrameStats, Image, Retargeted, Size};
+use vizretarget::{Image, Size};
 
 const W: u32 = 640;
 const H: u32 = 720;
@@ -118,57 +118,48 @@ fn frame(t: u32) -> Image {
     img
 }
 
-fn frames() -> Vec<Retargeted> {
-    (0..FRAMES)
-        .map(|t| Retargeted {
-            image: frame(t),
-            frame_index: t as u64,
-            duration_ms: Some(40),
-            stats: FrameStats::default(),
-            analysis: None,
-        })
-        .collect()
-}
-
-fn encode(frames: &[Retargeted]) -> usize {
+/// Encodes the frames in memory: (bytes, palettes built).
+fn encode(frames: &[Image]) -> (usize, u64) {
     let mut sink = GifSink::new(Vec::new(), "bench.gif", GifOptions::default());
     for f in frames {
-        sink.write_frame(f).expect("frame");
+        sink.add_frame(f, Some(40)).expect("frame");
     }
     sink.finish().expect("finish");
-    sink.into_inner().map_or(0, |v| v.len())
+    let palettes = sink.palettes_built();
+    (sink.into_inner().map_or(0, |v| v.len()), palettes)
 }
 
 fn bench(c: &mut Criterion) {
-    let frames = frames();
+    let frames: Vec<Image> = (0..FRAMES).map(frame).collect();
     if let Some(dir) = std::env::var_os("GIF_SINK_FRAMES") {
         let dir = std::path::PathBuf::from(dir);
         std::fs::create_dir_all(&dir).expect("frames folder");
-        for f in &frames {
-            let path = dir.join(format!("frame-{:03}.png", f.frame_index));
-            vizretarget::io::write_still(&f.image, &path, vizretarget::io::OutputFormat::Png)
+        for (i, f) in frames.iter().enumerate() {
+            let path = dir.join(format!("frame-{i:03}.png"));
+            vizretarget::io::write_still(f, &path, vizretarget::io::OutputFormat::Png)
                 .expect("write frame");
         }
         let gif = dir.join("vizretarget.gif");
         let mut sink = GifSink::create(&gif, GifOptions::default()).expect("gif");
         for f in &frames {
-            sink.write_frame(f).expect("frame");
+            sink.add_frame(f, Some(40)).expect("frame");
         }
         sink.finish().expect("finish");
     }
     // A plain measurement first, printed as frames per second (best of 3).
     let mut best = f64::INFINITY;
-    let mut bytes = 0;
+    let mut out = (0, 0);
     for _ in 0..3 {
         let t = Instant::now();
-        bytes = encode(&frames);
+        out = encode(&frames);
         best = best.min(t.elapsed().as_secs_f64());
     }
     println!(
-        "gif_sink: {FRAMES} frames {W}x{H} in {:.3} s = {:.1} frames/s, {} KiB",
+        "gif_sink: {FRAMES} frames {W}x{H} in {:.3} s = {:.1} frames/s, {} KiB, {} palette(s)",
         best,
         FRAMES as f64 / best,
-        bytes / 1024
+        out.0 / 1024,
+        out.1
     );
     let mut group = c.benchmark_group("gif_sink");
     group.sample_size(10);

@@ -39,7 +39,7 @@ impl Reporter {
             Some(n) if !quiet && std::io::stderr().is_terminal() && n > 1 => {
                 let bar = ProgressBar::new(n as u64);
                 if let Ok(style) = ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} frames, {per_sec}, {eta} left",
+                    "{bar:40} {pos}/{len} frames, {elapsed} elapsed, {eta} left",
                 ) {
                     bar.set_style(style);
                 }
