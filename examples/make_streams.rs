@@ -13,6 +13,9 @@
 //!   4-8, three of which move each frame.
 //! - `graph/frame-0000..0019.png`, 640x480: nodes and thin grey edges over pastel community
 //!   ellipses that grow as nodes join.
+//!
+//! Each stream is also written as an animated GIF beside its folder (`dashboard.gif`, ...),
+//! read back from the PNGs and encoded with the library's GIF writer (`vizretarget::io`).
 
 use image::{Rgb, RgbImage};
 use std::f32::consts::TAU;
@@ -353,19 +356,36 @@ fn graph(dir: &Path) {
     }
 }
 
+/// The PNG frames of `dir`, in order, as an animated GIF that loops forever.
+fn write_gif(dir: &Path, gif: &Path, delay_ms: u32) {
+    use vizretarget::io::{DirSource, GifOptions, GifSink};
+    use vizretarget::stream::{FrameSink, FrameSource};
+    let mut frames = DirSource::open(dir).expect("list frames");
+    let mut sink = GifSink::create(gif, GifOptions::default()).expect("create GIF");
+    while let Some(frame) = frames.next_frame().expect("read frame") {
+        sink.add_frame(&frame.image, Some(delay_ms))
+            .expect("encode frame");
+    }
+    sink.finish().expect("finish GIF");
+}
+
 fn main() {
     let root = std::env::args_os()
         .nth(1)
         .map_or_else(|| PathBuf::from("streams"), PathBuf::from);
     let draw_dashboard: fn(&Path) = dashboard;
-    for (name, draw) in [
-        ("dashboard", draw_dashboard),
-        ("scatter-map", scatter_map),
-        ("graph", graph),
+    // Frame durations of the GIF versions.
+    for (name, draw, delay_ms) in [
+        ("dashboard", draw_dashboard, 250),
+        ("scatter-map", scatter_map, 100),
+        ("graph", graph, 300),
     ] {
         let dir = root.join(name);
         std::fs::create_dir_all(&dir).expect("create stream folder");
         draw(&dir);
         println!("wrote {}", dir.display());
+        let gif = root.join(format!("{name}.gif"));
+        write_gif(&dir, &gif, delay_ms);
+        println!("wrote {}", gif.display());
     }
 }
