@@ -651,3 +651,54 @@ fn bad_stream_inputs_name_the_file() {
         }
     }
 }
+
+#[test]
+fn ctrl_c_finishes_the_gif_and_exits_130() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = bin()
+        .args([
+            "-",
+            "--input-format",
+            "rgb24",
+            "--input-size",
+            "160x120",
+            "--size",
+            "100x120",
+            "-o",
+            "live.gif",
+            "--stats",
+        ])
+        .current_dir(dir.path())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // An endless live stream: the feeder stops only when the binary stops reading.
+    let mut stdin = child.stdin.take().unwrap();
+    let feeder = std::thread::spawn(move || {
+        let frames = raw_stream(12, true);
+        while stdin.write_all(&frames).is_ok() {}
+    });
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+    let mut seen = 0;
+    while seen < 3 {
+        let line = lines.next().expect("stderr ended early").unwrap();
+        seen += line.starts_with("frame ") as usize;
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let rest: Vec<String> = lines.map_while(Result::ok).collect();
+    let status = child.wait().unwrap();
+    feeder.join().unwrap();
+    assert_eq!(status.code(), Some(130), "{rest:?}");
+    assert!(!rest.iter().any(|l| l.contains("panicked")), "{rest:?}");
+    let (frames, _, _) = read_gif(&dir.path().join("live.gif"));
+    assert!(frames.len() >= 3, "{} frames", frames.len());
+    let ids: Vec<_> = frames.iter().map(|f| which(f, 0)).collect();
+    assert_eq!(ids, expected(frames.len()), "whole frames, in order");
+    assert_eq!(listing(dir.path()), ["live.gif"], "no temporary file left");
+}
