@@ -209,8 +209,9 @@ pub struct WatchArgs {
     #[arg(long, value_name = "N", default_value_t = 20.0)]
     pub alpha: f32,
 
-    /// How long a snapshot must stay unchanged before it is read when no close-write event
-    /// says its writer is done, in ms.
+    /// How long a snapshot must stay unchanged before it is read when its writer's close was
+    /// not seen (files already there at the start; platforms without close-write events), in
+    /// ms. On Linux a file still open for writing waits up to 10 times this.
     #[arg(long, value_name = "MS", default_value_t = 200)]
     pub settle_ms: u64,
 
