@@ -187,18 +187,35 @@ fn layout(panels: Vec<Panel>, options: &SheetOptions) -> Image {
     // Rows: greedy, left to right. A panel's box is its image plus a 1-px frame, with the
     // label above.
     let label_h = |p: &Panel| p.lines.len() as u32 * line_h + LABEL_GAP;
-    let mut rows: Vec<Vec<usize>> = vec![Vec::new()];
-    let mut x = MARGIN;
-    for (i, p) in panels.iter().enumerate() {
-        let w = p.image.width() + 2;
-        let row = rows.last_mut().expect("one row");
-        if !row.is_empty() && x + w + MARGIN > max_width {
-            rows.push(vec![i]);
-            x = MARGIN + w + GAP;
-        } else {
-            row.push(i);
-            x += w + GAP;
+    let widths: Vec<u32> = panels.iter().map(|p| p.image.width() + 2).collect();
+    let greedy = |limit: u32| -> Vec<Vec<usize>> {
+        let mut rows: Vec<Vec<usize>> = vec![Vec::new()];
+        let mut x = MARGIN;
+        for (i, &w) in widths.iter().enumerate() {
+            let row = rows.last_mut().expect("one row");
+            if !row.is_empty() && x + w + MARGIN > limit {
+                rows.push(vec![i]);
+                x = MARGIN + w + GAP;
+            } else {
+                row.push(i);
+                x += w + GAP;
+            }
         }
+        rows
+    };
+    // As many rows as `max_width` needs, then as even as they go: the narrowest limit that
+    // still fits in that many rows (so six panels make rows of three and three, not five and
+    // one).
+    let mut rows = greedy(max_width);
+    let total: u32 = widths.iter().sum::<u32>() + GAP * widths.len() as u32 + 2 * MARGIN;
+    let mut limit = (total / rows.len() as u32).min(max_width);
+    while limit < max_width {
+        let r = greedy(limit);
+        if r.len() <= rows.len() {
+            rows = r;
+            break;
+        }
+        limit += 16;
     }
     let row_width = |r: &[usize]| -> u32 {
         r.iter().map(|&i| panels[i].image.width() + 2).sum::<u32>()
