@@ -272,3 +272,141 @@ fn mesh_overlay_marks_only_mesh_panels_and_rows_wrap() {
     );
     assert!(tiny.width() <= 120, "{}", tiny.width());
 }
+
+/// The command line: `compare` and `--method` (skipped when the binary is not built, as with
+/// `--no-default-features`).
+mod cli {
+    use super::*;
+    use std::process::{Command, Output};
+    use vizretarget::io::{read_still, write_still, OutputFormat};
+
+    fn run(dir: &std::path::Path, args: &[&str]) -> Option<Output> {
+        let bin = option_env!("CARGO_BIN_EXE_vizretarget")?;
+        Some(
+            Command::new(bin)
+                .args(args)
+                .current_dir(dir)
+                .output()
+                .expect("the binary runs"),
+        )
+    }
+
+    fn setup() -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        write_still(
+            &scatter(240, 120, 3),
+            &dir.path().join("in.png"),
+            OutputFormat::Png,
+        )
+        .unwrap();
+        dir
+    }
+
+    #[test]
+    fn compare_writes_the_sheet_and_prints_the_table() {
+        let dir = setup();
+        let args = [
+            "compare",
+            "in.png",
+            "--width",
+            "120",
+            "-o",
+            "sheet.png",
+            "--mesh",
+        ];
+        let Some(out) = run(dir.path(), &args) else {
+            return;
+        };
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for m in Method::ALL {
+            assert!(
+                text.lines().any(|l| l.starts_with(m.name())),
+                "{m} row:\n{text}"
+            );
+        }
+        let sheet = read_still(&dir.path().join("sheet.png")).unwrap();
+        assert!(sheet.width() > 240 + 5 * 120 / 2 && sheet.height() > 120);
+
+        let args = [
+            "compare", "in.png", "--size", "120x120", "-o", "s.jpg", "--json",
+        ];
+        let out = run(dir.path(), &args).unwrap();
+        assert!(out.status.success());
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["rows"].as_array().unwrap().len(), Method::ALL.len());
+        assert_eq!(json["target"]["height"], 120);
+        assert!(dir.path().join("s.jpg").is_file());
+    }
+
+    #[test]
+    fn method_picks_the_baseline_for_a_still() {
+        let dir = setup();
+        for m in ["linear", "crop", "grid", "seam", "mesh"] {
+            let name = format!("{m}.png");
+            let args = ["in.png", "--size", "100x150", "-o", &name, "--method", m];
+            let Some(out) = run(dir.path(), &args) else {
+                return;
+            };
+            assert!(
+                out.status.success(),
+                "{m}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let img = read_still(&dir.path().join(&name)).unwrap();
+            assert_eq!(img.size(), size(100, 150), "{m}");
+        }
+        // Linear through the CLI is the library's linear output.
+        let lib = retarget_with(
+            Method::Linear,
+            &read_still(&dir.path().join("in.png")).unwrap(),
+            size(100, 150),
+            &Options::default(),
+        )
+        .unwrap();
+        assert_eq!(
+            read_still(&dir.path().join("linear.png")).unwrap(),
+            lib.image
+        );
+    }
+
+    #[test]
+    fn bad_uses_fail_on_one_line() {
+        let dir = setup();
+        let cases: [(&[&str], i32, &str); 4] = [
+            (&["compare", "in.png", "-o", "s.png"], 2, "required"),
+            (
+                &["compare", "in.png", "--width", "9", "-o", "s.gif"],
+                1,
+                "one picture",
+            ),
+            (
+                &["compare", "missing.png", "--width", "9", "-o", "s.png"],
+                1,
+                "missing.png",
+            ),
+            (
+                &[
+                    "in.png", "--width", "9", "-o", "out.gif", "--method", "seam",
+                ],
+                1,
+                "streams",
+            ),
+        ];
+        for (args, code, word) in cases {
+            let Some(out) = run(dir.path(), args) else {
+                return;
+            };
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+            assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+            assert!(err.contains(word), "{args:?}: {err}");
+            assert!(!err.contains("panicked"));
+        }
+        assert!(!dir.path().join("s.png").exists() && !dir.path().join("s.gif").exists());
+    }
+}

@@ -57,6 +57,24 @@ Example:
 Exit status: 130 after Ctrl-C (the snapshot in flight is finished first), 1 if DIR cannot be
 watched or OUTDIR not written, 2 usage error.";
 
+/// Help text after the options of `compare --help`.
+const COMPARE_HELP: &str = "\
+The sheet shows, left to right and wrapping into rows on wide inputs: the original, mesh
+(vizretarget), linear scaling, crop (the most salient window at the scale that covers the
+target), grid (the same energy on a uniform grid, Wang et al. 2008) and seam carving (forward
+energy). Each panel is labelled with its method and size. Panels keep their relative sizes.
+
+The table on stdout has one row per method: sal.mean, the mean saliency of the output's own
+saliency map (the paper's Fig. 15); sal.kept, the output's total saliency over the source's;
+distortion, how far salient content is from a similarity (0: only scaled; halving one axis
+linearly: 0.47); sal.area, the output area of the source's salient pixels over their area (1:
+marks kept at their size); vertices and DOF of mesh and grid; milliseconds per stage.
+
+Example:
+  vizretarget compare map.png --width 400 -o map-compare.png --mesh --metrics
+
+Exit status: 0 done, 1 the input could not be read or the sheet not written, 2 usage error.";
+
 /// Resize a visualization to another aspect ratio without squashing its marks.
 ///
 /// vizretarget is for charts, maps, node-link graphs and dashboards designed for one screen that
@@ -75,7 +93,8 @@ watched or OUTDIR not written, 2 usage error.";
     name = "vizretarget",
     version,
     override_usage = "vizretarget <INPUT> (--size WxH | --width N | --height N) -o <OUTPUT> [OPTIONS]\n  \
-                      or:  vizretarget watch <DIR> -o <OUTDIR> (--size WxH | --width N | --height N) [OPTIONS]",
+                      or:  vizretarget watch <DIR> -o <OUTDIR> (--size WxH | --width N | --height N) [OPTIONS]\n  \
+                      or:  vizretarget compare <INPUT> (--size WxH | --width N | --height N) -o <SHEET.png> [--mesh] [--metrics] [--json]",
     after_long_help = EXAMPLES,
     max_term_width = 100,
     args_conflicts_with_subcommands = true,
@@ -120,6 +139,13 @@ pub struct Cli {
     /// small marks more closely but is slower; 4 to 200.
     #[arg(long, value_name = "N", default_value_t = 20.0)]
     pub alpha: f32,
+
+    /// Resizing method, for one picture: mesh (vizretarget's adaptive mesh, the default);
+    /// linear (plain scaling); crop (scale to cover, keep the most salient window); grid (the
+    /// same deformation on a uniform grid, Wang et al. 2008); seam (seam carving with forward
+    /// energy). `vizretarget compare` shows them side by side. Streams use mesh.
+    #[arg(long, value_name = "METHOD", value_enum, default_value_t = MethodArg::Mesh)]
+    pub method: MethodArg,
 
     /// Also write the method's intermediate pictures into DIR (created if missing): the
     /// saliency map (vsm.png), its levels (levels.png) and the mesh before and after the warp
@@ -180,6 +206,79 @@ pub enum Command {
     )]
     #[command(group = clap::ArgGroup::new("target").args(["size", "width", "height"]).required(true).multiple(true))]
     Watch(WatchArgs),
+
+    /// Write one sheet with the original and every method's output side by side, labelled, and
+    /// print their measures (saliency preservation, distortion, salient area kept, mesh size,
+    /// milliseconds per stage).
+    #[command(
+        override_usage = "vizretarget compare <INPUT> (--size WxH | --width N | --height N) -o <SHEET.png> [--mesh] [--metrics] [--json]",
+        after_long_help = COMPARE_HELP
+    )]
+    #[command(group = clap::ArgGroup::new("target").args(["size", "width", "height"]).required(true).multiple(true))]
+    Compare(CompareArgs),
+}
+
+/// Arguments of `vizretarget compare`.
+#[derive(clap::Args, Debug)]
+pub struct CompareArgs {
+    /// The picture to resize: PNG, JPEG, WebP or GIF (first frame).
+    pub input: PathBuf,
+
+    /// The sheet to write: .png, .jpg or .jpeg.
+    #[arg(short, long, value_name = "SHEET")]
+    pub output: PathBuf,
+
+    /// Target size as WIDTHxHEIGHT in px; each side 1 to 16384.
+    #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
+          conflicts_with_all = ["width", "height"], value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+
+    /// Target width in px; the height stays as in the input unless --height is given.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
+    pub width: Option<u32>,
+
+    /// Target height in px; the width stays as in the input unless --width is given.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
+    pub height: Option<u32>,
+
+    /// Mesh spacing α in px (mesh, and the grid's cell), 4 to 200.
+    #[arg(long, value_name = "N", default_value_t = 20.0)]
+    pub alpha: f32,
+
+    /// Draw the mesh over the mesh and grid outputs (and the source mesh over the original).
+    #[arg(long)]
+    pub mesh: bool,
+
+    /// Add saliency mean and distortion under each panel's label.
+    #[arg(long)]
+    pub metrics: bool,
+
+    /// Print the measures as JSON on stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--method` values.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum MethodArg {
+    #[default]
+    Mesh,
+    Linear,
+    Crop,
+    Grid,
+    Seam,
+}
+
+impl From<MethodArg> for vizretarget::Method {
+    fn from(m: MethodArg) -> vizretarget::Method {
+        match m {
+            MethodArg::Mesh => vizretarget::Method::Mesh,
+            MethodArg::Linear => vizretarget::Method::Linear,
+            MethodArg::Crop => vizretarget::Method::Crop,
+            MethodArg::Grid => vizretarget::Method::Grid,
+            MethodArg::Seam => vizretarget::Method::Seam,
+        }
+    }
 }
 
 /// Arguments of `vizretarget watch`.
@@ -316,6 +415,27 @@ mod tests {
             Cli::try_parse_from(["v", "watch", "d", "-o", "out"]).is_err(),
             "needs a target"
         );
+        let c =
+            Cli::try_parse_from(["v", "compare", "i.png", "-o", "s.png", "--width", "9"]).unwrap();
+        match c.command {
+            Some(Command::Compare(a)) => {
+                assert_eq!((a.width, a.mesh, a.json), (Some(9), false, false))
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            Cli::try_parse_from(["v", "compare", "i.png", "-o", "s.png"]).is_err(),
+            "needs a target"
+        );
+        let c = Cli::try_parse_from([
+            "v", "in.png", "-o", "o.png", "--width", "3", "--method", "seam",
+        ])
+        .unwrap();
+        assert_eq!(c.method, MethodArg::Seam);
+        assert!(Cli::try_parse_from([
+            "v", "in.png", "-o", "o.png", "--width", "3", "--method", "blur"
+        ])
+        .is_err());
         assert!(
             Cli::try_parse_from(["v", "in.png", "-o", "o.png"]).is_err(),
             "needs a target"

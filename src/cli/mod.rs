@@ -4,9 +4,11 @@
 //! - `stream.rs`: frames in (GIF, folder, stdin), frames out (GIF, folder, stdout), through
 //!   [`vizretarget::Pipeline`].
 //! - `watch.rs`: `vizretarget watch DIR -o OUTDIR`.
+//! - `compare.rs`: `vizretarget compare INPUT -o SHEET.png`: every method side by side.
 //! - `report.rs`: progress bar, summary line, `--stats-json`; `interrupt.rs`: Ctrl-C.
 
 mod args;
+mod compare;
 mod interrupt;
 mod report;
 mod still;
@@ -29,8 +31,13 @@ pub enum Outcome {
 
 /// Runs the job the arguments ask for.
 pub fn run(cli: Cli) -> Result<Outcome> {
-    if let Some(Command::Watch(w)) = &cli.command {
-        return watch::run(w);
+    match &cli.command {
+        Some(Command::Watch(w)) => return watch::run(w),
+        Some(Command::Compare(c)) => {
+            compare::run(c)?;
+            return Ok(Outcome::Done);
+        }
+        None => {}
     }
     let (Some(input), Some(output)) = (cli.input.clone(), cli.output.clone()) else {
         bail!("give an INPUT and -o OUTPUT (see --help)");
@@ -54,6 +61,10 @@ pub fn run(cli: Cli) -> Result<Outcome> {
             "{}: one picture cannot hold a stream of frames: write a .gif, a folder (ending \
              in /), or - (stdout)",
             output.display()
+        ),
+        Destination::Stream(_) if cli.method != args::MethodArg::Mesh => bail!(
+            "--method {} is for one picture; streams are retargeted with mesh",
+            vizretarget::Method::from(cli.method)
         ),
         Destination::Stream(format) => stream::run(&cli, &input, &output, format),
     }

@@ -1,5 +1,6 @@
 //! One picture in, one picture out: the still job.
 
+use super::args::MethodArg;
 use super::Cli;
 use anyhow::{bail, Context, Result};
 use std::path::Path;
@@ -33,6 +34,9 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
         (None, w, h) => (w.unwrap_or(image.width()), h.unwrap_or(image.height())),
     };
     let target = Size::new(w, h)?;
+    if cli.method != MethodArg::Mesh {
+        return super::compare::still_with(cli, input, output, format, &image, target, &options);
+    }
     let out = retarget(&image, target, &options)?;
     write_still(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {

@@ -1,0 +1,150 @@
+//! `vizretarget compare`: every method on one picture, the labelled sheet and the measures;
+//! and `--method` for one picture with a method other than the mesh.
+
+use super::args::{CompareArgs, MethodArg};
+use super::{library_error, Cli};
+use anyhow::{bail, Context, Result};
+use std::io::Write;
+use std::path::Path;
+use vizretarget::baseline::{Mapping, MethodOutput};
+use vizretarget::compare::{compare, SheetOptions};
+use vizretarget::io::OutputFormat;
+use vizretarget::io::{read_still, resolve_output, write_still, Destination, OutputChoice};
+use vizretarget::{debug, retarget_with, Image, Method, Options, Size};
+
+/// Writes the sheet and prints the table (or JSON) on stdout.
+pub fn run(args: &CompareArgs) -> Result<()> {
+    let format = match resolve_output(&args.output, OutputChoice::Auto).map_err(library_error)? {
+        Destination::Still(f) => f,
+        Destination::Stream(_) => bail!(
+            "{}: the sheet is one picture: give a .png, .jpg or .jpeg file",
+            args.output.display()
+        ),
+    };
+    check_folder(&args.output)?;
+    let options = Options::default().with_alpha(args.alpha);
+    options.validate().map_err(library_error)?;
+    let image = read_still(&args.input)?;
+    let target = target_of(args.size, args.width, args.height, image.size())?;
+    let comparison = compare(&image, target, &options).map_err(library_error)?;
+    let sheet = comparison.sheet(
+        &image,
+        &SheetOptions {
+            mesh_overlay: args.mesh,
+            metrics: args.metrics,
+            ..SheetOptions::default()
+        },
+    );
+    write_still(&sheet, &args.output, format)?;
+    let text = if args.json {
+        format!("{}\n", comparison.metrics.to_json())
+    } else {
+        comparison.metrics.to_string()
+    };
+    // A reader that closes stdout early (`| head`) is not an error.
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|_| stdout.flush())
+    {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(e).context("cannot write the measures to stdout")
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The still job with `--method` other than mesh: resize, write, and the debug pictures and
+/// stats line that the method has.
+pub fn still_with(
+    cli: &Cli,
+    input: &Path,
+    output: &Path,
+    format: OutputFormat,
+    image: &Image,
+    target: Size,
+    options: &Options,
+) -> Result<()> {
+    let method = Method::from(cli.method);
+    debug_assert_ne!(cli.method, MethodArg::Mesh);
+    let out = retarget_with(method, image, target, options).map_err(library_error)?;
+    write_still(&out.image, output, format)?;
+    if let Some(dir) = &cli.debug_dir {
+        write_debug(dir, image, &out)?;
+    }
+    if cli.stats {
+        let s = &out.stats;
+        let t = &s.times;
+        let mesh = match (s.vertices, s.triangles, s.dof) {
+            (Some(v), Some(t), Some(d)) => format!("{v} vertices, {t} triangles, DOF {d}; "),
+            _ => String::new(),
+        };
+        eprintln!(
+            "{}: {} -> {} by {method}: {mesh}vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, \
+             render {:.1} ms, total {:.1} ms",
+            input.display(),
+            image.size(),
+            out.image.size(),
+            t.vsm_ms,
+            t.mesh_ms,
+            t.solve_ms,
+            t.render_ms,
+            t.total_ms(),
+        );
+    }
+    Ok(())
+}
+
+/// What the method has of the mesh method's debug pictures: the saliency map and its levels
+/// (all but linear), the mesh before and after (grid).
+fn write_debug(dir: &Path, input: &Image, out: &MethodOutput) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut pictures = Vec::new();
+    if let Some(vsm) = &out.vsm {
+        pictures.push(("vsm.png", debug::vsm_image(vsm)));
+        pictures.push(("levels.png", debug::levels_image(vsm)));
+    }
+    if let Mapping::Warp { mesh, warp } = &out.mapping {
+        pictures.push((
+            "mesh-before.png",
+            debug::mesh_overlay(input, mesh.vertices(), mesh.triangles()),
+        ));
+        pictures.push((
+            "mesh-after.png",
+            debug::mesh_overlay(&out.image, warp.positions(), mesh.triangles()),
+        ));
+    }
+    for (name, img) in pictures {
+        write_still(&img, &dir.join(name), OutputFormat::Png)?;
+    }
+    Ok(())
+}
+
+fn target_of(
+    size: Option<(u32, u32)>,
+    width: Option<u32>,
+    height: Option<u32>,
+    from: Size,
+) -> Result<Size> {
+    let (w, h) = match (size, width, height) {
+        (Some(s), _, _) => s,
+        (None, w, h) => (w.unwrap_or(from.width), h.unwrap_or(from.height)),
+    };
+    Ok(Size::new(w, h)?)
+}
+
+/// Fail before the work, not after it: the output's folder must exist.
+fn check_folder(output: &Path) -> Result<()> {
+    let dir = match output.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "{}: the output folder {} does not exist",
+            output.display(),
+            dir.display()
+        );
+    }
+    Ok(())
+}
