@@ -78,11 +78,14 @@ impl FrameSink for CountSink {
     }
 }
 
+/// A named stream: how its frames are drawn, and whether reuse is on.
+type Kind = (&'static str, Box<dyn Fn(u32) -> Image>, bool);
+
 fn main() {
     let size = Size::new(1280, 720).unwrap();
     let target = Size::new(720, 720).unwrap();
     let n = 120u32;
-    let kinds: [(&str, Box<dyn Fn(u32) -> Image>, bool); 4] = [
+    let kinds: [Kind; 4] = [
         ("(a) static", Box::new(move |_| frame(size, 0, 0, 0)), true),
         (
             "(b) 3 marks moving",

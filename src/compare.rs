@@ -335,6 +335,15 @@ fn draw_text(img: &mut Image, font: &FontRef<'_>, px: f32, x: f32, y: f32, x_end
     }
 }
 
+/// Draws `text` in dark ink with the bundled font, its top-left at `(x, y)`, `px` high
+/// (tests and examples use it to make visualizations with real text).
+pub fn draw_label(img: &mut Image, x: f32, y: f32, px: f32, text: &str) {
+    if let Ok(font) = FontRef::try_from_slice(FONT) {
+        let x_end = img.width();
+        draw_text(img, &font, px, x, y, x_end, text);
+    }
+}
+
 /// Width of `text` in px at `px` with the bundled font (0 if it cannot be read).
 pub fn text_width(text: &str, px: f32) -> f32 {
     let Ok(font) = FontRef::try_from_slice(FONT) else {

@@ -120,3 +120,45 @@ fn draw_dot(img: &mut Image, c: DVec2, rgb: [u8; 3]) {
         }
     }
 }
+
+/// `base` with the detected structure drawn over it: horizontal lines red, vertical lines blue,
+/// text blocks as green boxes.
+pub fn structure_overlay(base: &Image, s: &crate::structure::Structure) -> Image {
+    let mut img = base.clone();
+    for l in &s.horizontal {
+        draw_line(
+            &mut img,
+            DVec2::new(l.from, l.pos),
+            DVec2::new(l.to, l.pos),
+            [230, 20, 20],
+            0.9,
+        );
+    }
+    for l in &s.vertical {
+        draw_line(
+            &mut img,
+            DVec2::new(l.pos, l.from),
+            DVec2::new(l.pos, l.to),
+            [20, 60, 230],
+            0.9,
+        );
+    }
+    for b in &s.text {
+        let (x0, y0, x1, y1) = (b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64);
+        for (a, c) in [
+            ((x0, y0), (x1, y0)),
+            ((x1, y0), (x1, y1)),
+            ((x1, y1), (x0, y1)),
+            ((x0, y1), (x0, y0)),
+        ] {
+            draw_line(
+                &mut img,
+                DVec2::new(a.0, a.1),
+                DVec2::new(c.0, c.1),
+                [20, 170, 40],
+                0.9,
+            );
+        }
+    }
+    img
+}

@@ -26,12 +26,13 @@ pub mod baseline;
 pub mod compare;
 pub mod debug;
 pub mod io;
-pub mod metrics;
 pub mod mesh;
+pub mod metrics;
 pub mod render;
 pub mod saliency;
 pub mod solve;
 pub mod stream;
+pub mod structure;
 
 pub use baseline::{retarget_with, Method, MethodOutput};
 pub use error::Error;

@@ -27,6 +27,9 @@ pub struct Options {
     pub keep_analysis: bool,
     /// When a stream may reuse the previous frame's mesh and solution.
     pub reuse: ReuseOptions,
+    /// Detect lines and text and keep them straight and rigid (on by default; off gives the
+    /// paper's method alone).
+    pub structure: bool,
 }
 
 impl Default for Options {
@@ -36,6 +39,7 @@ impl Default for Options {
             energy: EnergyParams::default(),
             keep_analysis: false,
             reuse: ReuseOptions::default(),
+            structure: true,
         }
     }
 }
@@ -198,6 +202,7 @@ impl Retargeter {
                     alpha: options.alpha,
                 },
                 options.reuse.clone(),
+                options.structure,
             ),
             solve: SolveStage::new(options.energy.clone(), target),
             render: RenderStage::default(),
@@ -242,7 +247,7 @@ impl Retargeter {
         let sal = self.saliency.run(&frame.image);
         let t1 = Instant::now();
         times.vsm_ms = ms(t0, t1);
-        let meshed = self.mesh.run(&sal);
+        let meshed = self.mesh.run(&sal, &frame.image);
         let t2 = Instant::now();
         times.mesh_ms = ms(t1, t2);
         let solved = self.solve.run(&sal.vsm, &meshed)?;

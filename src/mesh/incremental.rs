@@ -4,12 +4,17 @@
 
 use super::marks::{find_marks, Mark};
 use super::sampling::{sample_key_points, KeyPointKind};
+use super::skeleton::{crowds, skeleton};
+use super::Role;
 use super::{Mesh, MeshOptions};
 use crate::image::Size;
 use crate::raster::snap;
 use crate::saliency::Vsm;
+use crate::structure::Structure;
 use glam::DVec2;
-use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
+use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// A set of square tiles of the canvas.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -145,41 +150,119 @@ impl HasPosition for KeyVertex {
     }
 }
 
-/// A Delaunay triangulation of key points that can be updated tile by tile.
+/// A (constrained) Delaunay triangulation of key points that can be updated tile by tile.
 pub struct IncrementalMesh {
-    tri: DelaunayTriangulation<KeyVertex>,
+    tri: ConstrainedDelaunayTriangulation<KeyVertex>,
     size: Size,
     marks: Vec<Mark>,
     next_id: u64,
+    /// The structure the skeleton came from, and each skeleton point's role by position.
+    structure: Option<Arc<Structure>>,
+    roles: HashMap<(u64, u64), Role>,
 }
 
 impl IncrementalMesh {
     /// Samples key points on `vsm` and triangulates them, numbering vertices from `first_id`
     /// (ids are never reused within a stream, so a rebuilt mesh shares none with the last).
     pub fn build(vsm: &Vsm, options: &MeshOptions, first_id: u64) -> (IncrementalMesh, Mesh) {
+        IncrementalMesh::build_with(vsm, None, options, first_id)
+    }
+
+    /// Like [`IncrementalMesh::build`], around `structure` (lines and text blocks): their
+    /// skeleton's points and constraint edges go into a constrained Delaunay triangulation and
+    /// ordinary key points that would crowd them are dropped.
+    pub fn build_with(
+        vsm: &Vsm,
+        structure: Option<&Structure>,
+        options: &MeshOptions,
+        first_id: u64,
+    ) -> (IncrementalMesh, Mesh) {
         let size = vsm.size();
-        let marks = find_marks(vsm);
+        let sk = structure
+            .filter(|s| !s.is_empty())
+            .map(|s| skeleton(s, size, options.alpha as f64));
+        let mut marks = find_marks(vsm);
+        if let Some(sk) = &sk {
+            marks.retain(|m| {
+                !sk.structure.text.iter().any(|b| {
+                    m.center.x > b.x0 as f64
+                        && m.center.x < b.x1 as f64
+                        && m.center.y > b.y0 as f64
+                        && m.center.y < b.y1 as f64
+                })
+            });
+        }
         let points = sample_key_points(vsm, options.alpha, &marks);
         let mut next_id = first_id;
-        let mut input: Vec<KeyVertex> = corners(size)
-            .into_iter()
-            .chain(points.iter().map(|k| k.pos))
-            .map(|p| {
-                let v = key(p, size, next_id);
-                next_id += 1;
-                v
-            })
-            .collect();
-        input.retain(|v| v.pos.x.is_finite() && v.pos.y.is_finite());
-        let tri = DelaunayTriangulation::bulk_load_stable(input).unwrap_or_default();
+        let mut input: Vec<KeyVertex> = Vec::new();
+        let mut seen: HashMap<(u64, u64), usize> = HashMap::new();
+        let mut push = |p: DVec2, input: &mut Vec<KeyVertex>| -> Option<usize> {
+            if !p.x.is_finite() || !p.y.is_finite() {
+                return None;
+            }
+            let v = key(p, size, next_id);
+            let k = (v.pos.x.to_bits(), v.pos.y.to_bits());
+            if let Some(&i) = seen.get(&k) {
+                return Some(i);
+            }
+            next_id += 1;
+            input.push(v);
+            seen.insert(k, input.len() - 1);
+            Some(input.len() - 1)
+        };
+        for c in corners(size) {
+            push(c, &mut input);
+        }
+        let mut edges = Vec::new();
+        let mut roles = HashMap::new();
+        if let Some(sk) = &sk {
+            let idx: Vec<Option<usize>> = sk
+                .points
+                .iter()
+                .map(|(p, _)| push(*p, &mut input))
+                .collect();
+            for (i, (_, role)) in idx.iter().zip(&sk.points) {
+                if let Some(i) = i {
+                    let v = input[*i].pos;
+                    roles.insert((v.x.to_bits(), v.y.to_bits()), *role);
+                }
+            }
+            for [a, b] in &sk.edges {
+                if let (Some(a), Some(b)) = (idx[*a], idx[*b]) {
+                    if a != b {
+                        edges.push([a, b]);
+                    }
+                }
+            }
+        }
+        for k in &points {
+            if k.kind == KeyPointKind::Corner {
+                continue;
+            }
+            if let Some(sk) = &sk {
+                if crowds(&sk.structure, k.pos) {
+                    continue;
+                }
+            }
+            push(k.pos, &mut input);
+        }
+        let tri = ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges, |_| {})
+            .unwrap_or_default();
         let inc = IncrementalMesh {
             tri,
             size,
             marks,
             next_id,
+            structure: sk.map(|sk| Arc::new(sk.structure)),
+            roles,
         };
         let mesh = inc.to_mesh();
         (inc, mesh)
+    }
+
+    /// The structure this mesh was built around, if any.
+    pub fn structure(&self) -> Option<&Structure> {
+        self.structure.as_deref()
     }
 
     /// The next id this mesh would give a new vertex.
@@ -257,7 +340,23 @@ impl IncrementalMesh {
                 triangles.push([a, c, b]);
             }
         }
-        Mesh::from_parts(self.size, vertices, ids, triangles, self.marks.clone())
+        let mesh = Mesh::from_parts(self.size, vertices, ids, triangles, self.marks.clone());
+        match &self.structure {
+            Some(st) => {
+                let roles = mesh
+                    .vertices()
+                    .iter()
+                    .map(|p| {
+                        self.roles
+                            .get(&(p.x.to_bits(), p.y.to_bits()))
+                            .copied()
+                            .unwrap_or_default()
+                    })
+                    .collect();
+                mesh.with_structure(st.clone(), roles)
+            }
+            None => mesh,
+        }
     }
 }
 

@@ -9,6 +9,7 @@
 mod incremental;
 mod marks;
 mod sampling;
+mod skeleton;
 mod triangulate;
 
 pub use incremental::{IncrementalMesh, TileMask};
@@ -18,6 +19,7 @@ pub use sampling::{KeyPoint, KeyPointKind};
 use crate::image::Size;
 use crate::raster::snap;
 use crate::saliency::Vsm;
+use crate::structure::Structure;
 use glam::DVec2;
 
 /// Which boundary constraint of Eq. 10–11 holds for a vertex.
@@ -95,12 +97,32 @@ pub struct Mesh {
     /// `neighbours[t][i]`: the triangle across the edge opposite vertex `i`, or [`NONE`].
     neighbours: Vec<[u32; 3]>,
     marks: Vec<Mark>,
+    roles: Vec<Role>,
+    structure: Option<std::sync::Arc<Structure>>,
+}
+
+/// What structure a vertex belongs to (see [`crate::structure`]): the solver keeps a line's
+/// vertices on one straight axis-aligned line and a text block's vertices in one similarity.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Role {
+    /// Index of the horizontal line it lies on.
+    pub hline: Option<u32>,
+    /// Index of the vertical line it lies on.
+    pub vline: Option<u32>,
+    /// Index of the text block it bounds.
+    pub block: Option<u32>,
 }
 
 /// No neighbour (a border edge).
 pub const NONE: u32 = u32::MAX;
 
 impl Mesh {
+    /// Samples key points on `vsm`, around the lines and text blocks of `structure`, and
+    /// triangulates them with the structure's edges as constraints.
+    pub fn build_with(vsm: &Vsm, structure: &Structure, options: &MeshOptions) -> Mesh {
+        IncrementalMesh::build_with(vsm, Some(structure), options, 0).1
+    }
+
     /// Samples key points on `vsm` and triangulates them (§5.1).
     pub fn build(vsm: &Vsm, options: &MeshOptions) -> Mesh {
         let marks = marks::find_marks(vsm);
@@ -151,7 +173,30 @@ impl Mesh {
             triangles,
             neighbours,
             marks,
+            roles: Vec::new(),
+            structure: None,
         }
+    }
+
+    /// Attaches the structure the mesh was built around, with each vertex's role in it.
+    pub(crate) fn with_structure(
+        mut self,
+        structure: std::sync::Arc<Structure>,
+        roles: Vec<Role>,
+    ) -> Mesh {
+        self.structure = Some(structure);
+        self.roles = roles;
+        self
+    }
+
+    /// Each vertex's role in the structure (empty when the mesh has none).
+    pub fn roles(&self) -> &[Role] {
+        &self.roles
+    }
+
+    /// The structure the mesh was built around, if any.
+    pub fn structure(&self) -> Option<&Structure> {
+        self.structure.as_deref()
     }
 
     /// A regular lattice mesh with cells of about `cell_px` (the grid baseline's topology).

@@ -1,39 +1,148 @@
-//! The boundary constraints of Eq. 10–11 as a variable layout: each vertex coordinate is either
-//! an unknown of the system or fixed to a side of the target rectangle.
+//! The boundary constraints of Eq. 10–11, and the structure constraints, as a layout of
+//! unknowns: each vertex coordinate is an affine function of at most two unknowns.
 //!
-//! Eq. 11 as printed keeps a side vertex's other coordinate unchanged (`v'_i = (0, v_iy)`), which
-//! cannot hold when the height changes too; as DESIGN.md says, side vertices slide along their
-//! side and only the coordinate across it is fixed. Corners are fixed at the target's corners.
+//! * Eq. 11 as printed keeps a side vertex's other coordinate unchanged (`v'_i = (0, v_iy)`),
+//!   which cannot hold when the height changes too; as DESIGN.md says, side vertices slide
+//!   along their side and only the coordinate across it is fixed. Corners are fixed at the
+//!   target's corners.
+//! * A vertex on a horizontal line shares the line's one y unknown (the line stays straight and
+//!   horizontal, exactly); on a vertical line, its x unknown.
+//! * A vertex of a text block is `(tx + s·x, ty + s·y)` with the block's three unknowns: the
+//!   block moves as one piece with one scale, no shear, no rotation.
+//!
+//! All of this keeps the energy quadratic: substituting affine functions of the unknowns into
+//! a quadratic leaves a quadratic, so the solve stays one sparse system.
 
 use crate::image::Size;
 use crate::mesh::Mesh;
 use glam::DVec2;
 
-/// Marks a coordinate that is not an unknown.
+/// Marks an absent unknown.
 pub(crate) const FIXED: u32 = u32::MAX;
 
-/// Which unknown each vertex coordinate and each triangle scale is.
+/// A coordinate as `c + k0·u[v0] + k1·u[v1]` (absent terms have `v = FIXED`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct Coord {
+    pub c: f64,
+    pub v: [u32; 2],
+    pub k: [f64; 2],
+}
+
+impl Coord {
+    pub fn fixed(c: f64) -> Coord {
+        Coord {
+            c,
+            v: [FIXED; 2],
+            k: [0.0; 2],
+        }
+    }
+    pub fn var(v: u32) -> Coord {
+        Coord {
+            c: 0.0,
+            v: [v, FIXED],
+            k: [1.0, 0.0],
+        }
+    }
+    pub fn affine(c: f64, a: (u32, f64), b: (u32, f64)) -> Coord {
+        Coord {
+            c,
+            v: [a.0, b.0],
+            k: [a.1, b.1],
+        }
+    }
+    /// No unknown in it.
+    pub fn is_fixed(&self) -> bool {
+        self.v[0] == FIXED && self.v[1] == FIXED
+    }
+    /// Its one unknown, when it is exactly one unknown (a free or line coordinate).
+    pub fn single(&self) -> Option<u32> {
+        (self.v[0] != FIXED && self.v[1] == FIXED && self.k[0] == 1.0 && self.c == 0.0)
+            .then_some(self.v[0])
+    }
+    /// The terms `(unknown, coefficient)`.
+    #[inline]
+    pub fn terms(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..2)
+            .filter(|&i| self.v[i] != FIXED)
+            .map(|i| (self.v[i] as usize, self.k[i]))
+    }
+    /// Its value for the unknowns `u`.
+    pub fn eval(&self, u: &[f64]) -> f64 {
+        self.c + self.terms().map(|(v, k)| k * u[v]).sum::<f64>()
+    }
+}
+
+/// Gaps up to this long between collinear pieces of a line are bridged.
+const JOIN_GAP_PX: f64 = 12.0;
+
+/// For each line, the index of the group of collinear pieces it belongs to: pieces on the same
+/// row (column) whose gap is short, or bridged by a text block sitting on the line (a panel
+/// frame interrupted by its title).
+fn joined_lines(
+    lines: &[crate::structure::Line],
+    s: &crate::structure::Structure,
+    horizontal: bool,
+) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..lines.len()).collect();
+    order.sort_by(|&a, &b| {
+        lines[a]
+            .pos
+            .total_cmp(&lines[b].pos)
+            .then(lines[a].from.total_cmp(&lines[b].from))
+    });
+    let mut group = vec![0usize; lines.len()];
+    let mut current = usize::MAX;
+    let mut last: Option<usize> = None;
+    for &i in &order {
+        let joined = last.is_some_and(|j| {
+            let (a, b) = (&lines[j], &lines[i]);
+            a.pos == b.pos
+                && (b.from - a.to <= JOIN_GAP_PX
+                    || s.text.iter().any(|t| {
+                        let (across0, across1, along0, along1) = if horizontal {
+                            (t.y0 as f64, t.y1 as f64, t.x0 as f64, t.x1 as f64)
+                        } else {
+                            (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64)
+                        };
+                        across0 <= a.pos
+                            && a.pos <= across1
+                            && along0 <= a.to + JOIN_GAP_PX
+                            && along1 >= b.from - JOIN_GAP_PX
+                    }))
+        });
+        if !joined {
+            current = i;
+        }
+        group[i] = current;
+        last = Some(i);
+    }
+    group
+}
+
+/// Which unknowns each vertex coordinate and each triangle scale are.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Layout {
-    /// Unknown index of each vertex's x', or [`FIXED`].
-    pub x_var: Vec<u32>,
-    /// Unknown index of each vertex's y', or [`FIXED`].
-    pub y_var: Vec<u32>,
-    /// Value of x' where fixed (unused otherwise).
-    pub x_fixed: Vec<f64>,
-    /// Value of y' where fixed.
-    pub y_fixed: Vec<f64>,
+    pub x: Vec<Coord>,
+    pub y: Vec<Coord>,
     /// Unknown index of each triangle's scale `s_t`, or [`FIXED`] for a triangle whose corners
     /// are all fixed (it takes no part in the system).
     pub s_var: Vec<u32>,
-    /// Free vertex coordinates (the paper's DOF).
+    /// The unknowns of each text block: `(tx, ty, s)`.
+    pub blocks: Vec<[u32; 3]>,
+    /// The y unknown of each horizontal line, the x unknown of each vertical line
+    /// ([`FIXED`] when no free vertex uses it).
+    pub hlines: Vec<u32>,
+    pub vlines: Vec<u32>,
+    /// Free position unknowns (the paper's DOF).
     pub dof: usize,
     /// Number of unknowns.
     pub n: usize,
+    /// How many vertex coordinates use each unknown.
+    pub uses: Vec<u32>,
 }
 
 impl Layout {
-    /// Every vertex free but for the boundary constraints.
+    /// Every vertex free but for the boundary and structure constraints.
     pub fn new(mesh: &Mesh, target: Size) -> Layout {
         Layout::with_fixed(mesh, target, &[])
     }
@@ -46,65 +155,136 @@ impl Layout {
         let (tw, th) = (target.width as f64, target.height as f64);
         let nv = mesh.vertices().len();
         let nt = mesh.triangles().len();
-        let mut l = Layout {
-            x_var: vec![FIXED; nv],
-            y_var: vec![FIXED; nv],
-            x_fixed: vec![0.0; nv],
-            y_fixed: vec![0.0; nv],
-            s_var: vec![FIXED; nt],
-            dof: 0,
-            n: 0,
-        };
+        let roles = mesh.roles();
         let held = |i: usize| fixed.get(i).copied().flatten();
         let mut next = 0u32;
+        let mut fresh = || {
+            next += 1;
+            next - 1
+        };
+        // Collinear pieces of one line (a frame interrupted by its title) share one unknown.
+        let (st_h, st_v) = match mesh.structure() {
+            Some(s) => (
+                joined_lines(&s.horizontal, s, true),
+                joined_lines(&s.vertical, s, false),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let mut hpos: std::collections::HashMap<usize, u32> = Default::default();
+        let mut vpos: std::collections::HashMap<usize, u32> = Default::default();
+        let n_blocks = mesh.structure().map_or(0, |s| s.text.len());
+        let n_h = mesh.structure().map_or(0, |s| s.horizontal.len());
+        let n_v = mesh.structure().map_or(0, |s| s.vertical.len());
+        let mut l = Layout {
+            x: Vec::with_capacity(nv),
+            y: Vec::with_capacity(nv),
+            s_var: vec![FIXED; nt],
+            blocks: vec![[FIXED; 3]; n_blocks],
+            hlines: vec![FIXED; n_h],
+            vlines: vec![FIXED; n_v],
+            dof: 0,
+            n: 0,
+            uses: Vec::new(),
+        };
         for (i, (&p, &b)) in mesh.vertices().iter().zip(mesh.boundary()).enumerate() {
-            if b.fixes_x() {
-                l.x_fixed[i] = if p.x >= w { tw } else { 0.0 };
-            } else if let Some(q) = held(i) {
-                l.x_fixed[i] = q.x;
-            } else {
-                l.x_var[i] = next;
-                next += 1;
+            let role = roles.get(i).copied().unwrap_or_default();
+            if let Some(q) = held(i) {
+                l.x.push(Coord::fixed(if b.fixes_x() {
+                    if p.x >= w {
+                        tw
+                    } else {
+                        0.0
+                    }
+                } else {
+                    q.x
+                }));
+                l.y.push(Coord::fixed(if b.fixes_y() {
+                    if p.y >= h {
+                        th
+                    } else {
+                        0.0
+                    }
+                } else {
+                    q.y
+                }));
+                continue;
             }
-        }
-        for (i, (&p, &b)) in mesh.vertices().iter().zip(mesh.boundary()).enumerate() {
-            if b.fixes_y() {
-                l.y_fixed[i] = if p.y >= h { th } else { 0.0 };
-            } else if let Some(q) = held(i) {
-                l.y_fixed[i] = q.y;
+            let block = role.block.map(|k| k as usize);
+            let x = if b.fixes_x() {
+                Coord::fixed(if p.x >= w { tw } else { 0.0 })
+            } else if let Some(k) = block {
+                let bl = &mut l.blocks[k];
+                if bl[0] == FIXED {
+                    *bl = [fresh(), fresh(), fresh()];
+                }
+                Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x))
+            } else if let Some(k) = role.vline {
+                let group = st_v[k as usize];
+                let v = *vpos.entry(group).or_insert_with(&mut fresh);
+                l.vlines[k as usize] = v;
+                Coord::var(v)
             } else {
-                l.y_var[i] = next;
-                next += 1;
-            }
+                Coord::var(fresh())
+            };
+            let y = if b.fixes_y() {
+                Coord::fixed(if p.y >= h { th } else { 0.0 })
+            } else if let Some(k) = block {
+                let bl = l.blocks[k];
+                Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y))
+            } else if let Some(k) = role.hline {
+                let group = st_h[k as usize];
+                let v = *hpos.entry(group).or_insert_with(&mut fresh);
+                l.hlines[k as usize] = v;
+                Coord::var(v)
+            } else {
+                Coord::var(fresh())
+            };
+            l.x.push(x);
+            l.y.push(y);
         }
         l.dof = next as usize;
         for (t, tri) in mesh.triangles().iter().enumerate() {
             let active = tri
                 .iter()
-                .any(|&v| l.x_var[v as usize] != FIXED || l.y_var[v as usize] != FIXED);
+                .any(|&v| !l.x[v as usize].is_fixed() || !l.y[v as usize].is_fixed());
             if active {
                 l.s_var[t] = next;
                 next += 1;
             }
         }
         l.n = next as usize;
+        l.uses = vec![0; l.n];
+        for z in l.x.iter().chain(&l.y) {
+            for (v, _) in z.terms() {
+                l.uses[v] += 1;
+            }
+        }
         l
     }
 
-    /// Number of free vertex coordinates (the paper's DOF).
+    /// Number of free position unknowns (the paper's DOF).
     pub fn dof(&self) -> usize {
         self.dof
     }
 
-    /// A hash of the pattern of unknowns (which coordinates and scales are free), with the
-    /// mesh topology: equal keys mean the same sparsity pattern.
+    /// Whether coordinate `z` is an unknown of its own (not fixed, not shared with a line or a
+    /// block): only those may be moved one vertex at a time.
+    pub fn is_private(&self, z: &Coord) -> bool {
+        z.single()
+            .is_some_and(|v| self.uses.get(v as usize).copied().unwrap_or(0) == 1)
+    }
+
+    /// A hash of the pattern of unknowns, with the mesh topology: equal keys mean the same
+    /// sparsity pattern and the same order of assembly.
     pub fn pattern_key(&self, mesh: &Mesh) -> u64 {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         mesh.triangles().hash(&mut h);
-        self.x_var.hash(&mut h);
-        self.y_var.hash(&mut h);
+        for c in self.x.iter().chain(&self.y) {
+            c.v.hash(&mut h);
+        }
         self.s_var.hash(&mut h);
+        self.blocks.hash(&mut h);
         h.finish()
     }
 }

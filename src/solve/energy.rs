@@ -31,7 +31,7 @@
 //!
 //! The x and y unknowns only meet through `s_t`; the unknowns are laid out by [`Layout`].
 
-use super::boundary::{Layout, FIXED};
+use super::boundary::{Coord, Layout, FIXED};
 use crate::mesh::{Mesh, NONE};
 use glam::DVec2;
 
@@ -48,6 +48,9 @@ pub struct EnergyParams {
     pub prior_strength: f64,
     /// `β`, the strength of scale smoothing.
     pub smoothing: f64,
+    /// How strongly a text block holds its scale (per unit of area, relative to a mark's
+    /// shape term): text must stay legible, so it gives way last.
+    pub text_strength: f64,
     /// `τ`, how strongly a local update holds a re-sampled vertex where the previous frame's
     /// warp put its source position (temporal coherence: background around a moving mark
     /// stays put; salient triangles, weighted ~1, still take the shape they need).
@@ -63,6 +66,7 @@ impl Default for EnergyParams {
             prior_strength: 1.0,
             smoothing: 0.5,
             temporal: 0.05,
+            text_strength: 0.2,
         }
     }
 }
@@ -77,6 +81,8 @@ pub(crate) struct TriangleTerms<'a> {
     pub delta: &'a [f64],
     /// Per vertex, where the temporal term pulls it (empty: no temporal term).
     pub anchors: &'a [Option<DVec2>],
+    /// The scale text blocks are pulled to.
+    pub text_scale: f64,
 }
 
 /// Source-shape data of one triangle, fixed for a topology.
@@ -112,9 +118,11 @@ pub(crate) fn weight(p: &EnergyParams, lambda: f64) -> f64 {
 
 /// Walks every entry of `H` in a fixed order (that depends on the topology and layout only),
 /// calling `entry(i, j, v)` with `i ≤ j`, and adds the right-hand side into `rhs`.
-// Local corner indices j, k address several per-triangle arrays at once: index loops read
-// closest to the formulas.
-#[allow(clippy::needless_range_loop)]
+///
+/// Convention: the energy is `uᵀHu − 2bᵀu + const`, so the minimum solves `Hu = b`. With
+/// local coordinates `z = c + C u`, a local quadratic `zᵀKz` adds `CᵀKC` to `H` and `−CᵀKc`
+/// to `b`; both are walked over every ordered pair of local coordinates, keeping the upper
+/// triangle (`i ≤ j`), which is exactly `H`'s upper triangle.
 pub(crate) fn assemble(
     mesh: &Mesh,
     layout: &Layout,
@@ -132,63 +140,61 @@ pub(crate) fn assemble(
         .zip(terms.boost)
         .map(|(&l, &b)| weight(params, l) * b)
         .collect();
+    // Adds K[a][b] for local coordinates za, zb.
+    let pair = |za: &Coord,
+                zb: &Coord,
+                k: f64,
+                rhs: &mut [f64],
+                entry: &mut dyn FnMut(usize, usize, f64)| {
+        for (va, ca) in za.terms() {
+            for (vb, cb) in zb.terms() {
+                if va <= vb {
+                    entry(va, vb, k * ca * cb);
+                }
+            }
+            if zb.c != 0.0 {
+                rhs[va] -= k * ca * zb.c;
+            }
+        }
+    };
     for (t, tri) in tris.iter().enumerate() {
         if layout.s_var[t] == FIXED {
             continue; // all corners fixed: a constant
         }
         let g = &geom[t];
         let c = g.area * w[t];
-        let s = layout.s_var[t] as usize;
+        let s = Coord::var(layout.s_var[t]);
         let delta = terms.delta[t];
-        // Residuals J00 − δs, J01, J10, J11 − δs.
-        // x block: K[xj][xk] = c gj·gk, K[xj][s] = −c δ gj.x ; y block likewise with gj.y.
-        let mut ss = 2.0 * c * delta * delta;
-        let mut s_rhs = 0.0;
-        for (vars, fixed, comp) in [
-            (&layout.x_var, &layout.x_fixed, 0usize),
-            (&layout.y_var, &layout.y_fixed, 1usize),
-        ] {
+        // Residuals J00 − δs, J01, J10, J11 − δs:
+        //   K[xj][xk] = K[yj][yk] = c gj·gk, K[xj][s] = −c δ gj.x, K[yj][s] = −c δ gj.y,
+        //   K[s][s] = 2 c δ² (+ the size prior).
+        let xs = tri.map(|v| layout.x[v as usize]);
+        let ys = tri.map(|v| layout.y[v as usize]);
+        for (coords, comp) in [(&xs, 0usize), (&ys, 1usize)] {
             for j in 0..3 {
-                let vj = tri[j] as usize;
+                for k in 0..3 {
+                    pair(
+                        &coords[j],
+                        &coords[k],
+                        c * g.grad[j].dot(g.grad[k]),
+                        rhs,
+                        &mut entry,
+                    );
+                }
                 let gj = g.grad[j];
                 let kjs = -c * delta * if comp == 0 { gj.x } else { gj.y };
-                if vars[vj] == FIXED {
-                    // Moves to the right-hand side of the s row and of the other free coords.
-                    let fj = fixed[vj];
-                    s_rhs -= kjs * fj;
-                    for k in 0..3 {
-                        let vk = tri[k] as usize;
-                        if vars[vk] != FIXED {
-                            rhs[vars[vk] as usize] -= c * gj.dot(g.grad[k]) * fj;
-                        }
-                    }
-                    continue;
-                }
-                let ij = vars[vj] as usize;
-                for k in 0..3 {
-                    let vk = tri[k] as usize;
-                    if vars[vk] == FIXED {
-                        continue;
-                    }
-                    let ik = vars[vk] as usize;
-                    if ij <= ik {
-                        let v = c * gj.dot(g.grad[k]);
-                        // Two local corners on one unknown would need both halves; meshes
-                        // never repeat a vertex in a triangle, so ij == ik only when j == k.
-                        entry(ij, ik, v);
-                    }
-                }
-                entry(ij, s, kjs);
+                pair(&coords[j], &s, kjs, rhs, &mut entry);
+                pair(&s, &coords[j], kjs, rhs, &mut entry);
             }
         }
+        let mut ss = 2.0 * c * delta * delta;
         let lambda = terms.lambda[t];
         if lambda >= params.prior_threshold {
             let mu = params.prior_strength * g.area * w[t];
             ss += mu;
-            s_rhs += mu;
+            rhs[layout.s_var[t] as usize] += mu;
         }
-        entry(s, s, ss);
-        rhs[s] += s_rhs;
+        pair(&s, &s, ss, rhs, &mut entry);
     }
     // Eq. 12, weight outside the square.
     for (t, nb) in mesh.neighbours().iter().enumerate() {
@@ -204,22 +210,36 @@ pub(crate) fn assemble(
             let (st, sn) = (layout.s_var[t] as usize, layout.s_var[n] as usize);
             entry(st, st, b);
             entry(sn, sn, b);
-            entry(st, sn, -b);
+            entry(st.min(sn), st.max(sn), -b);
         }
     }
-    // Temporal term: τ·|v' − anchor|² on anchored free coordinates.
+    // Text blocks: their scale pulled to δ (as large as the space allows, at most 1).
+    if let Some(st) = mesh.structure() {
+        for (k, block) in layout.blocks.iter().enumerate() {
+            if block[2] == FIXED {
+                continue;
+            }
+            let b = &st.text[k];
+            let area = ((b.x1 - b.x0) * (b.y1 - b.y0)) as f64;
+            let mu = params.text_strength * area;
+            let sv = block[2] as usize;
+            entry(sv, sv, mu);
+            rhs[sv] += mu * terms.text_scale;
+        }
+    }
+    // Temporal term: τ·|z − anchor|² on anchored coordinates.
     let tau = params.temporal;
     for (v, a) in terms.anchors.iter().enumerate() {
         let Some(a) = a else { continue };
-        if layout.x_var[v] != FIXED {
-            let i = layout.x_var[v] as usize;
-            entry(i, i, tau);
-            rhs[i] += tau * a.x;
-        }
-        if layout.y_var[v] != FIXED {
-            let i = layout.y_var[v] as usize;
-            entry(i, i, tau);
-            rhs[i] += tau * a.y;
+        for (z, target) in [(layout.x[v], a.x), (layout.y[v], a.y)] {
+            if z.is_fixed() {
+                continue;
+            }
+            let shifted = Coord {
+                c: z.c - target,
+                ..z
+            };
+            pair(&shifted, &shifted, tau, rhs, &mut entry);
         }
     }
 }

@@ -134,6 +134,42 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
     fit_x.min(fit_y).min(1.0).max(linear.min(1.0))
 }
 
+/// The scale text blocks can keep: the largest at which the text crossing any row fits the
+/// target width (with the margin of [`FILL`]), and likewise for columns; at most 1.
+pub(crate) fn text_fit_scale(
+    text: &[crate::structure::TextBlock],
+    size: Size,
+    target: Size,
+) -> f64 {
+    if text.is_empty() {
+        return 1.0;
+    }
+    let (w, h) = (size.width as usize, size.height as usize);
+    let mut rows = vec![0u32; h];
+    let mut cols = vec![0u32; w];
+    for b in text {
+        for r in rows[(b.y0 as usize).min(h)..(b.y1 as usize).min(h)].iter_mut() {
+            *r += b.x1 - b.x0;
+        }
+        for c in cols[(b.x0 as usize).min(w)..(b.x1 as usize).min(w)].iter_mut() {
+            *c += b.y1 - b.y0;
+        }
+    }
+    let widest = *rows.iter().max().unwrap_or(&0) as f64;
+    let tallest = *cols.iter().max().unwrap_or(&0) as f64;
+    let fx = if widest > 0.0 {
+        FILL * target.width as f64 / widest
+    } else {
+        f64::INFINITY
+    };
+    let fy = if tallest > 0.0 {
+        FILL * target.height as f64 / tallest
+    } else {
+        f64::INFINITY
+    };
+    fx.min(fy).min(1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,6 +12,7 @@ mod cholesky;
 mod energy;
 mod fit;
 mod repair;
+mod snapping;
 mod weights;
 
 pub use energy::EnergyParams;
@@ -103,6 +104,8 @@ pub struct SolveStats {
     pub blend_global: bool,
     /// The scale the size prior asked of salient content (1 unless it could not fit).
     pub salient_scale: f64,
+    /// Lines and text blocks moved onto the pixel grid after the solve.
+    pub snapped: usize,
 }
 
 /// Solves the energy for meshes, keeping the symbolic factorization while the topology holds.
@@ -117,6 +120,8 @@ pub struct Solver {
     boost: Vec<f64>,
     delta: Vec<f64>,
     anchors: Vec<Option<DVec2>>,
+    text_scale: f64,
+    text_fit: f64,
     pairs: Vec<(u32, u32)>,
     rhs: Vec<f64>,
 }
@@ -161,6 +166,9 @@ impl Solver {
     ) -> Result<(Warp, SolveStats), Error> {
         weights::triangle_saliency(mesh, vsm, &mut self.lambda);
         let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
+        self.text_fit = mesh
+            .structure()
+            .map_or(1.0, |s| fit::text_fit_scale(&s.text, mesh.size(), target));
         let layout = Layout::new(mesh, target);
         self.anchors.clear();
         let Outcome {
@@ -168,7 +176,7 @@ impl Solver {
             scales,
             mut stats,
             folded: bad,
-        } = self.solve_with(mesh, layout, fit)?;
+        } = self.solve_with(mesh, layout, fit.min(self.text_fit))?;
         if !bad.is_empty() {
             let vt = repair::VertexTriangles::new(mesh);
             stats.untangled =
@@ -260,6 +268,7 @@ impl Solver {
         self.boost.resize(nt, 1.0);
         self.delta.clear();
         self.delta.resize(nt, salient_scale);
+        self.text_scale = self.text_fit;
         if self.topology != Some(key) {
             self.geom = energy::geometry(mesh);
             self.pairs.clear();
@@ -270,6 +279,7 @@ impl Solver {
                 boost: &self.boost,
                 delta: &self.delta,
                 anchors: &self.anchors,
+                text_scale: self.text_scale,
             };
             let pairs = &mut self.pairs;
             energy::assemble(
@@ -300,6 +310,12 @@ impl Solver {
             bad = repair::folded(mesh, &pos.0);
             stats.repair_rounds += 1;
         }
+        if bad.is_empty() {
+            if let Some((snapped, n)) = snapping::snap_structure(mesh, &self.layout, &self.rhs) {
+                pos.0 = snapped;
+                stats.snapped = n;
+            }
+        }
         Ok(Outcome {
             positions: pos.0,
             scales: pos.1,
@@ -319,6 +335,7 @@ impl Solver {
             boost: &self.boost,
             delta: &self.delta,
             anchors: &self.anchors,
+            text_scale: self.text_scale,
         };
         let system = &mut self.system;
         let mut k = 0usize;
@@ -342,19 +359,7 @@ impl Solver {
         }
         let l = &self.layout;
         let positions: Vec<DVec2> = (0..mesh.vertices().len())
-            .map(|i| {
-                let x = if l.x_var[i] == FIXED {
-                    l.x_fixed[i]
-                } else {
-                    u[l.x_var[i] as usize]
-                };
-                let y = if l.y_var[i] == FIXED {
-                    l.y_fixed[i]
-                } else {
-                    u[l.y_var[i] as usize]
-                };
-                DVec2::new(snap(x), snap(y))
-            })
+            .map(|i| DVec2::new(snap(l.x[i].eval(u)), snap(l.y[i].eval(u))))
             .collect();
         let positions: Vec<DVec2> = positions;
         // A triangle outside the system keeps the scale its deformed shape shows.
@@ -468,6 +473,7 @@ mod tests {
             boost: &ones,
             delta: &ones,
             anchors: &[],
+            text_scale: 1.0,
         };
         let e0 = energy::energy_of(
             &mesh,
@@ -479,7 +485,7 @@ mod tests {
         );
         let layout = Layout::new(&mesh, target);
         for v in (0..mesh.vertices().len()).step_by(7) {
-            if layout.x_var[v] == FIXED {
+            if layout.x[v].single().is_none() {
                 continue;
             }
             let mut p = warp.positions().to_vec();

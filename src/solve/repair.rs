@@ -14,7 +14,7 @@
 //! A global blend from the start is valid but costs quality everywhere (DESIGN.md measured marker
 //! roundness falling from ~0.85 to ~0.57), which is why it comes last.
 
-use super::boundary::{Layout, FIXED};
+use super::boundary::Layout;
 use crate::mesh::Mesh;
 use crate::raster::{cross, snap, FixedPoint};
 use glam::DVec2;
@@ -89,7 +89,7 @@ pub(crate) fn untangle(
             .iter()
             .flat_map(|&t| mesh.triangles()[t])
             .map(|v| v as usize)
-            .filter(|&v| layout.x_var[v] != FIXED || layout.y_var[v] != FIXED)
+            .filter(|&v| layout.is_private(&layout.x[v]) || layout.is_private(&layout.y[v]))
             .collect();
         verts.sort_unstable();
         verts.dedup();
@@ -132,10 +132,11 @@ pub(crate) fn untangle(
             let mut best = (before, old);
             for f in [1.0, 0.75, 0.5, 0.25] {
                 let mut p = old + (c - old) * f;
-                if layout.x_var[v] == FIXED {
+                // Only coordinates of their own: a boundary, line or block coordinate stays.
+                if !layout.is_private(&layout.x[v]) {
                     p.x = old.x;
                 }
-                if layout.y_var[v] == FIXED {
+                if !layout.is_private(&layout.y[v]) {
                     p.y = old.y;
                 }
                 pos[v] = DVec2::new(snap(p.x), snap(p.y));

@@ -173,6 +173,7 @@ impl Pipeline {
                     alpha: options.alpha,
                 },
                 options.reuse.clone(),
+                options.structure,
             );
             handles.push(
                 std::thread::Builder::new()
@@ -180,7 +181,7 @@ impl Pipeline {
                     .spawn_scoped(s, move || {
                         stage(rx1, tx2, stop, |m: WithVsm| {
                             let t = Instant::now();
-                            let meshed = mesher.run(&m.sal);
+                            let meshed = mesher.run(&m.sal, &m.frame.image);
                             let mut times = m.times;
                             times.mesh_ms = ms(t);
                             Ok(WithMesh {

@@ -11,6 +11,7 @@ use crate::mesh::{IncrementalMesh, Mesh, MeshOptions, TileMask};
 use crate::render::Renderer;
 use crate::saliency::{Rect, Vsm, VsmBuilder};
 use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
+use crate::structure::Structure;
 use glam::DVec2;
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
@@ -97,6 +98,8 @@ impl SaliencyStage {
 /// Stage 2: the reuse decision and the mesh (built, updated tile by tile, or kept).
 pub(crate) struct MeshStage {
     options: MeshOptions,
+    /// Detect lines and text and build the mesh around them.
+    structure: bool,
     reuse: ReuseOptions,
     inc: Option<IncrementalMesh>,
     mesh: Option<Arc<Mesh>>,
@@ -115,9 +118,10 @@ pub(crate) struct Meshed {
 }
 
 impl MeshStage {
-    pub fn new(options: MeshOptions, reuse: ReuseOptions) -> MeshStage {
+    pub fn new(options: MeshOptions, reuse: ReuseOptions, structure: bool) -> MeshStage {
         MeshStage {
             options,
+            structure,
             reuse,
             inc: None,
             mesh: None,
@@ -127,7 +131,7 @@ impl MeshStage {
         }
     }
 
-    pub fn run(&mut self, s: &Saliency) -> Meshed {
+    pub fn run(&mut self, s: &Saliency, image: &Image) -> Meshed {
         let vsm = &s.vsm;
         let size = vsm.size();
         let have = !s.fresh
@@ -143,7 +147,11 @@ impl MeshStage {
                 changed_saliency(self.reference.as_ref().expect("have"), vsm, &self.reuse);
             if changed.is_empty() {
                 Decision::Reuse
-            } else if changed.fraction() > self.reuse.rebuild_fraction {
+            } else if changed.fraction() > self.reuse.rebuild_fraction
+                || self.touches_structure(&changed)
+            {
+                // Lines and text blocks are constraint edges of the triangulation: re-sampling
+                // around them is a rebuild.
                 Decision::Rebuild
             } else {
                 // Re-sample one tile beyond the change, so a ring around a moved mark that
@@ -166,7 +174,9 @@ impl MeshStage {
         };
         self.last_vsm = Some(vsm.clone());
         if decision == Decision::Rebuild {
-            let (inc, mesh) = IncrementalMesh::build(vsm, &self.options, self.next_id);
+            let structure = self.structure.then(|| Structure::detect(image.as_ref()));
+            let (inc, mesh) =
+                IncrementalMesh::build_with(vsm, structure.as_ref(), &self.options, self.next_id);
             self.next_id = inc.next_id();
             self.inc = Some(inc);
             self.mesh = Some(Arc::new(mesh));
@@ -177,6 +187,27 @@ impl MeshStage {
             decision,
             region: TileMask::new(size, self.reuse.tile_px),
         }
+    }
+}
+
+impl MeshStage {
+    /// Whether tiles of `mask` (grown by one) hold any line or text block of the current mesh.
+    fn touches_structure(&self, mask: &TileMask) -> bool {
+        let Some(st) = self.inc.as_ref().and_then(|i| i.structure()) else {
+            return false;
+        };
+        let grown = mask.dilated();
+        st.horizontal
+            .iter()
+            .any(|l| grown.intersects(l.from, l.pos - 1.0, l.to, l.pos + 1.0))
+            || st
+                .vertical
+                .iter()
+                .any(|l| grown.intersects(l.pos - 1.0, l.from, l.pos + 1.0, l.to))
+            || st
+                .text
+                .iter()
+                .any(|b| grown.intersects(b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64))
     }
 }
 

@@ -1,0 +1,115 @@
+//! After the solve, lines and text blocks are moved by less than half a pixel so that they
+//! land on the output pixel grid the way they sat on the source grid: a 1-px line then maps
+//! onto exactly one output row or column (the renderer samples it at texel centres and it stays
+//! one pixel sharp, instead of a two-pixel smear at half contrast), and a text block kept at
+//! its size becomes a whole-pixel shift of its glyphs (copied crisp).
+//!
+//! A move that would fold a triangle is not made.
+
+use super::boundary::{Layout, FIXED};
+use super::repair;
+use crate::mesh::Mesh;
+use crate::raster::snap;
+use glam::DVec2;
+
+/// Text blocks whose scale is within this of 1 are set to exactly 1.
+const UNIT_SCALE_TOLERANCE: f64 = 0.03;
+
+/// One adjustable element: the unknowns it moves, and their snapped values.
+struct Element {
+    vars: Vec<(usize, f64)>,
+}
+
+/// Positions from unknowns.
+fn positions(mesh: &Mesh, layout: &Layout, u: &[f64]) -> Vec<DVec2> {
+    (0..mesh.vertices().len())
+        .map(|i| DVec2::new(snap(layout.x[i].eval(u)), snap(layout.y[i].eval(u))))
+        .collect()
+}
+
+/// Snaps the structure of `mesh` in the solution `u`; returns the positions and how many
+/// elements moved.
+pub(crate) fn snap_structure(
+    mesh: &Mesh,
+    layout: &Layout,
+    u: &[f64],
+) -> Option<(Vec<DVec2>, usize)> {
+    let st = mesh.structure()?;
+    let mut elements: Vec<Element> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for (k, &v) in layout.hlines.iter().enumerate() {
+        if v != FIXED && seen.insert(v) {
+            let pos = st.horizontal[k].pos;
+            elements.push(Element {
+                vars: vec![(v as usize, pos + (u[v as usize] - pos).round())],
+            });
+        }
+    }
+    for (k, &v) in layout.vlines.iter().enumerate() {
+        if v != FIXED && seen.insert(v) {
+            let pos = st.vertical[k].pos;
+            elements.push(Element {
+                vars: vec![(v as usize, pos + (u[v as usize] - pos).round())],
+            });
+        }
+    }
+    for (k, b) in layout.blocks.iter().enumerate() {
+        if b[0] == FIXED {
+            continue;
+        }
+        let (tx, ty, s) = (u[b[0] as usize], u[b[1] as usize], u[b[2] as usize]);
+        if (s - 1.0).abs() > UNIT_SCALE_TOLERANCE {
+            continue;
+        }
+        // Scale 1 about the block's centre, then a whole-pixel shift.
+        let blk = &st.text[k];
+        let c = DVec2::new(
+            (blk.x0 + blk.x1) as f64 / 2.0,
+            (blk.y0 + blk.y1) as f64 / 2.0,
+        );
+        elements.push(Element {
+            vars: vec![
+                (b[0] as usize, (tx + (s - 1.0) * c.x).round()),
+                (b[1] as usize, (ty + (s - 1.0) * c.y).round()),
+                (b[2] as usize, 1.0),
+            ],
+        });
+    }
+    if elements.is_empty() {
+        return None;
+    }
+    let mut active = vec![true; elements.len()];
+    for _ in 0..4 {
+        let mut v = u.to_vec();
+        for (e, &on) in elements.iter().zip(&active) {
+            if on {
+                for &(i, x) in &e.vars {
+                    v[i] = x;
+                }
+            }
+        }
+        let pos = positions(mesh, layout, &v);
+        let bad = repair::folded(mesh, &pos);
+        if bad.is_empty() {
+            let n = active.iter().filter(|&&a| a).count();
+            return Some((pos, n));
+        }
+        // Give up the elements whose unknowns a folded triangle's corners use.
+        let mut touched = std::collections::HashSet::new();
+        for t in bad {
+            for &vtx in &mesh.triangles()[t] {
+                for z in [layout.x[vtx as usize], layout.y[vtx as usize]] {
+                    for (var, _) in z.terms() {
+                        touched.insert(var);
+                    }
+                }
+            }
+        }
+        for (e, on) in elements.iter().zip(active.iter_mut()) {
+            if e.vars.iter().any(|(i, _)| touched.contains(i)) {
+                *on = false;
+            }
+        }
+    }
+    None
+}

@@ -1,0 +1,184 @@
+//! Long straight axis-aligned lines and edges: panel frames, axes, grid lines, bar sides.
+//!
+//! A horizontal edge is a run, along the boundary between two pixel rows, of pixels whose
+//! luminance differs across the boundary by more than [`EDGE_STEP`]; runs of at least
+//! [`MIN_LENGTH_PX`] (1-px gaps bridged) count. A thin line (1–3 px) shows as two such edges
+//! a few rows apart over the same span: it becomes one line along its middle, so that the
+//! mesh edge runs through the line's pixels and the renderer can keep it one pixel sharp. A
+//! lone edge (the top of a bar, the side of a filled panel) stays on its boundary.
+
+/// Luminance step across a boundary that makes an edge pixel (the measure eval tools use).
+pub const EDGE_STEP: i16 = 30;
+/// Shortest run that counts as a line, in pixels.
+pub const MIN_LENGTH_PX: u32 = 40;
+/// Edges at most this far apart over the same span are the two sides of one thin line.
+const THIN_PX: u32 = 3;
+
+/// An axis-aligned line: `pos` across it (a row or column boundary, or the middle of a thin
+/// line), `from..to` along it, in image pixels.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Line {
+    pub pos: f64,
+    pub from: f64,
+    pub to: f64,
+}
+
+/// Horizontal lines of a `w × h` luminance image.
+pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Vec<Line> {
+    let edges = edge_runs(h, w, |b, i| {
+        // boundary b between rows b-1 and b, position i along it
+        (l[b * w + i] as i16 - l[(b - 1) * w + i] as i16).abs() > EDGE_STEP
+    });
+    pair_thin(edges)
+}
+
+/// Vertical lines of a `w × h` luminance image.
+pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Vec<Line> {
+    let edges = edge_runs(w, h, |b, i| {
+        (l[i * w + b] as i16 - l[i * w + b - 1] as i16).abs() > EDGE_STEP
+    });
+    pair_thin(edges)
+}
+
+/// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) where `edge` holds,
+/// 1-px gaps bridged, of at least [`MIN_LENGTH_PX`]: `(boundary, from, to)`.
+fn edge_runs(
+    n_boundaries: usize,
+    len: usize,
+    edge: impl Fn(usize, usize) -> bool,
+) -> Vec<(u32, u32, u32)> {
+    let mut out = Vec::new();
+    let mut flags = vec![false; len];
+    for b in 1..n_boundaries {
+        for (i, f) in flags.iter_mut().enumerate() {
+            *f = edge(b, i);
+        }
+        let mut i = 0;
+        while i < len {
+            if !flags[i] {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            let mut end = i + 1;
+            loop {
+                if end < len && flags[end] {
+                    end += 1;
+                } else if end + 1 < len && flags[end + 1] {
+                    end += 2; // bridge a 1-px gap
+                } else {
+                    break;
+                }
+            }
+            if (end - start) as u32 >= MIN_LENGTH_PX {
+                out.push((b as u32, start as u32, end as u32));
+            }
+            i = end;
+        }
+    }
+    out
+}
+
+/// Turns edge runs into lines: two runs at most [`THIN_PX`] apart covering mostly the same span
+/// are one thin line along their middle.
+fn pair_thin(mut edges: Vec<(u32, u32, u32)>) -> Vec<Line> {
+    edges.sort_unstable();
+    let mut used = vec![false; edges.len()];
+    let mut out = Vec::new();
+    for i in 0..edges.len() {
+        if used[i] {
+            continue;
+        }
+        let (b, f, t) = edges[i];
+        let mut partner = None;
+        for j in i + 1..edges.len() {
+            let (b2, f2, t2) = edges[j];
+            if b2 > b + THIN_PX {
+                break;
+            }
+            if used[j] || b2 == b {
+                continue;
+            }
+            let overlap = t.min(t2) as i64 - f.max(f2) as i64;
+            let shorter = (t - f).min(t2 - f2) as i64;
+            if overlap * 10 >= shorter * 8 {
+                partner = Some(j);
+                break;
+            }
+        }
+        match partner {
+            Some(j) => {
+                used[j] = true;
+                let (b2, f2, t2) = edges[j];
+                out.push(Line {
+                    pos: (b + b2) as f64 / 2.0,
+                    from: f.max(f2) as f64,
+                    to: t.min(t2) as f64,
+                });
+            }
+            None => out.push(Line {
+                pos: b as f64,
+                from: f as f64,
+                to: t as f64,
+            }),
+        }
+        used[i] = true;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_thin_line_is_one_line_through_its_middle_and_an_edge_stays_an_edge() {
+        let (w, h) = (120usize, 100usize);
+        let mut l = vec![250u8; w * h];
+        for x in 10..110 {
+            l[20 * w + x] = 40; // 1-px line on row 20
+        }
+        for y in 40..100 {
+            for x in 0..100 {
+                l[y * w + x] = 90; // a filled block: one edge at boundary 40
+            }
+        }
+        let hl = horizontal(&l, w, h);
+        assert_eq!(hl.len(), 2, "{hl:?}");
+        assert_eq!(
+            hl[0],
+            Line {
+                pos: 20.5,
+                from: 10.0,
+                to: 110.0
+            }
+        );
+        assert_eq!(
+            hl[1],
+            Line {
+                pos: 40.0,
+                from: 0.0,
+                to: 100.0
+            }
+        );
+        let vl = vertical(&l, w, h);
+        assert_eq!(
+            vl,
+            vec![Line {
+                pos: 100.0,
+                from: 40.0,
+                to: 100.0
+            }]
+        );
+    }
+
+    #[test]
+    fn short_runs_are_not_lines() {
+        let (w, h) = (100usize, 30usize);
+        let mut l = vec![250u8; w * h];
+        for x in 10..45 {
+            l[10 * w + x] = 0;
+        }
+        assert!(horizontal(&l, w, h).is_empty());
+    }
+}

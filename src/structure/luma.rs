@@ -1,0 +1,14 @@
+//! Luminance at full resolution, composited over white, as bytes: the input of line and text
+//! detection (both need the pixel grid exactly; the VSM may be at half resolution).
+
+use crate::image::ImageRef;
+
+/// Rec. 601 luma of every pixel (over white), row-major.
+pub(crate) fn luma(image: ImageRef<'_>, out: &mut Vec<u8>) {
+    out.clear();
+    out.extend(image.pixels().iter().map(|p| {
+        let a = p[3] as u32;
+        let y = (p[0] as u32 * 77 + p[1] as u32 * 150 + p[2] as u32 * 29) >> 8;
+        ((y * a + 255 * (255 - a) + 127) / 255) as u8
+    }));
+}

@@ -1,0 +1,46 @@
+//! The structure a visualization is made of, found from pixels only: long horizontal and
+//! vertical lines (panel frames, axes, grid lines, bar sides) and text blocks. The mesh puts
+//! vertices and edges on them and the solver keeps lines straight and axis-aligned and text
+//! blocks similar (one scale, no shear), which the paper's energy alone does not.
+//!
+//! * [`lines`]: runs of luminance steps along pixel-row and -column boundaries;
+//! * [`text`]: rows of small high-contrast components.
+
+mod lines;
+mod luma;
+mod text;
+
+pub use lines::Line;
+pub use text::TextBlock;
+
+use crate::image::ImageRef;
+
+/// What was found in one frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Structure {
+    /// Horizontal lines: `pos` is y.
+    pub horizontal: Vec<Line>,
+    /// Vertical lines: `pos` is x.
+    pub vertical: Vec<Line>,
+    /// Text blocks.
+    pub text: Vec<TextBlock>,
+}
+
+impl Structure {
+    /// Finds lines and text in `image`.
+    pub fn detect(image: ImageRef<'_>) -> Structure {
+        let (w, h) = (image.width() as usize, image.height() as usize);
+        let mut l = Vec::new();
+        luma::luma(image, &mut l);
+        Structure {
+            horizontal: lines::horizontal(&l, w, h),
+            vertical: lines::vertical(&l, w, h),
+            text: text::detect(&l, w, h),
+        }
+    }
+
+    /// Nothing found.
+    pub fn is_empty(&self) -> bool {
+        self.horizontal.is_empty() && self.vertical.is_empty() && self.text.is_empty()
+    }
+}

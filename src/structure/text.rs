@@ -1,0 +1,256 @@
+//! Text: clusters of small high-contrast strokes on a uniform ground, lined up in rows.
+//!
+//! 1. Stroke pixels: where the luminance range of the 3×3 neighbourhood exceeds
+//!    [`STROKE_RANGE`] (a glyph's strokes and their 1-px surroundings; a uniform ground and the
+//!    inside of filled shapes are not).
+//! 2. Glyphs: 8-connected components of stroke pixels of glyph height ([`MIN_H`]–[`MAX_H`] px);
+//!    letters closer than ~2 px merge into words, which is fine.
+//! 3. Text lines: glyphs whose vertical extents overlap by 60 %, of similar height, closer
+//!    horizontally than their height, joined; a group of one glyph only counts when wider than
+//!    tall (a lone round blob is a mark, not text).
+//! 4. Overlapping text lines become one block.
+
+/// Luminance range in a 3×3 neighbourhood that marks a stroke pixel.
+const STROKE_RANGE: u8 = 60;
+/// Glyph (or word) height range, pixels.
+const MIN_H: u32 = 7;
+const MAX_H: u32 = 40;
+/// Widest glyph component relative to its height (merged words run long).
+const MAX_ASPECT: u32 = 14;
+
+/// A text block's bounding box `[x0, y0, x1, y1)` in image pixels, and its line height.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct TextBlock {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+    /// Glyph height of its (tallest) line.
+    pub line_height: u32,
+}
+
+#[derive(Copy, Clone, Debug)]
+struct Comp {
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+}
+
+impl Comp {
+    fn h(&self) -> u32 {
+        self.y1 - self.y0
+    }
+    fn w(&self) -> u32 {
+        self.x1 - self.x0
+    }
+}
+
+/// Text blocks of a `w × h` luminance image.
+pub(crate) fn detect(l: &[u8], w: usize, h: usize) -> Vec<TextBlock> {
+    let stroke = stroke_mask(l, w, h);
+    let mut comps = components(&stroke, w, h);
+    comps.retain(|c| has_stems(l, w, c));
+    let lines = group_lines(comps);
+    merge_blocks(lines)
+}
+
+/// Pixels whose 3×3 luminance range exceeds [`STROKE_RANGE`].
+fn stroke_mask(l: &[u8], w: usize, h: usize) -> Vec<bool> {
+    // Separable max and min of radius 1.
+    let mut rmax = vec![0u8; w * h];
+    let mut rmin = vec![0u8; w * h];
+    for y in 0..h {
+        let row = &l[y * w..][..w];
+        for x in 0..w {
+            let (a, b) = (x.saturating_sub(1), (x + 1).min(w - 1));
+            let s = &row[a..=b];
+            rmax[y * w + x] = *s.iter().max().unwrap_or(&0);
+            rmin[y * w + x] = *s.iter().min().unwrap_or(&0);
+        }
+    }
+    let mut out = vec![false; w * h];
+    for y in 0..h {
+        let (a, b) = (y.saturating_sub(1), (y + 1).min(h - 1));
+        for x in 0..w {
+            let mut mx = 0u8;
+            let mut mn = 255u8;
+            for yy in a..=b {
+                mx = mx.max(rmax[yy * w + x]);
+                mn = mn.min(rmin[yy * w + x]);
+            }
+            out[y * w + x] = mx - mn > STROKE_RANGE;
+        }
+    }
+    out
+}
+
+/// Glyph-sized 8-connected components.
+fn components(mask: &[bool], w: usize, h: usize) -> Vec<Comp> {
+    let mut seen = vec![false; w * h];
+    let mut stack = Vec::new();
+    let mut out = Vec::new();
+    for start in 0..w * h {
+        if seen[start] || !mask[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start as u32);
+        let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+        while let Some(i) = stack.pop() {
+            let (x, y) = (i as usize % w, i as usize / w);
+            x0 = x0.min(x as u32);
+            y0 = y0.min(y as u32);
+            x1 = x1.max(x as u32 + 1);
+            y1 = y1.max(y as u32 + 1);
+            for (dx, dy) in [
+                (-1i64, -1i64),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
+                let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                if !seen[j] && mask[j] {
+                    seen[j] = true;
+                    stack.push(j as u32);
+                }
+            }
+        }
+        let c = Comp { x0, y0, x1, y1 };
+        if (MIN_H..=MAX_H).contains(&c.h()) && c.w() <= MAX_ASPECT * c.h() {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// Whether a component holds glyph stems: a vertical run of ink at least 40 % of its height
+/// (and 4 px). Letters and digits have them; a cluster of dots (a dot-matrix map, a dotted
+/// line) does not, however its dots line up.
+fn has_stems(l: &[u8], w: usize, c: &Comp) -> bool {
+    // Background: the most common luminance on the box's border.
+    let mut hist = [0u32; 256];
+    for x in c.x0..c.x1 {
+        hist[l[c.y0 as usize * w + x as usize] as usize] += 1;
+        hist[l[(c.y1 - 1) as usize * w + x as usize] as usize] += 1;
+    }
+    for y in c.y0..c.y1 {
+        hist[l[y as usize * w + c.x0 as usize] as usize] += 1;
+        hist[l[y as usize * w + (c.x1 - 1) as usize] as usize] += 1;
+    }
+    let bg = (0..256).max_by_key(|&v| hist[v]).unwrap_or(0) as i16;
+    let need = (c.h() * 2 / 5).max(4);
+    for x in c.x0..c.x1 {
+        let mut run = 0;
+        for y in c.y0..c.y1 {
+            if (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16 {
+                run += 1;
+                if run >= need {
+                    return true;
+                }
+            } else {
+                run = 0;
+            }
+        }
+    }
+    false
+}
+
+// Glyph indices i, j address the sorted list and the union-find parents together.
+#[allow(clippy::needless_range_loop)]
+/// Joins glyphs into text lines (union-find over near neighbours in reading direction).
+fn group_lines(mut comps: Vec<Comp>) -> Vec<(Comp, u32, usize)> {
+    comps.sort_by_key(|c| (c.x0, c.y0));
+    let n = comps.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for i in 0..n {
+        let a = comps[i];
+        for j in i + 1..n {
+            let b = comps[j];
+            if b.x0 > a.x1 + MAX_H {
+                break;
+            }
+            let (ha, hb) = (a.h(), b.h());
+            let overlap = a.y1.min(b.y1) as i64 - a.y0.max(b.y0) as i64;
+            if overlap * 10 < ha.min(hb) as i64 * 6 || ha.max(hb) > 2 * ha.min(hb) {
+                continue;
+            }
+            let gap = b.x0 as i64 - a.x1 as i64;
+            if gap <= ha.max(hb) as i64 {
+                let (ra, rb) = (find(&mut parent, i), find(&mut parent, j));
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    let mut groups: std::collections::BTreeMap<usize, (Comp, u32, usize)> = Default::default();
+    for i in 0..n {
+        let r = find(&mut parent, i);
+        let c = comps[i];
+        let e = groups.entry(r).or_insert((c, c.h(), 0));
+        e.0 = Comp {
+            x0: e.0.x0.min(c.x0),
+            y0: e.0.y0.min(c.y0),
+            x1: e.0.x1.max(c.x1),
+            y1: e.0.y1.max(c.y1),
+        };
+        e.1 = e.1.max(c.h());
+        e.2 += 1;
+    }
+    groups
+        .into_values()
+        .filter(|(c, lh, k)| *k >= 2 || c.w() * 5 >= 9 * *lh)
+        .collect()
+}
+
+/// Overlapping text lines merged into blocks.
+fn merge_blocks(lines: Vec<(Comp, u32, usize)>) -> Vec<TextBlock> {
+    let mut blocks: Vec<TextBlock> = lines
+        .into_iter()
+        .map(|(c, lh, _)| TextBlock {
+            x0: c.x0,
+            y0: c.y0,
+            x1: c.x1,
+            y1: c.y1,
+            line_height: lh,
+        })
+        .collect();
+    loop {
+        let mut merged = false;
+        'outer: for i in 0..blocks.len() {
+            for j in i + 1..blocks.len() {
+                let (a, b) = (blocks[i], blocks[j]);
+                let touch = a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
+                if touch {
+                    blocks[i] = TextBlock {
+                        x0: a.x0.min(b.x0),
+                        y0: a.y0.min(b.y0),
+                        x1: a.x1.max(b.x1),
+                        y1: a.y1.max(b.y1),
+                        line_height: a.line_height.max(b.line_height),
+                    };
+                    blocks.swap_remove(j);
+                    merged = true;
+                    break 'outer;
+                }
+            }
+        }
+        if !merged {
+            return blocks;
+        }
+    }
+}

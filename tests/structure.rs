@@ -1,0 +1,137 @@
+//! Visualizations are text, straight lines and rectangles: a synthetic dashboard retargeted
+//! to another width keeps its frame lines straight and axis-aligned, its bars vertical and its
+//! text blocks' proportions.
+
+use vizretarget::compare::draw_label;
+use vizretarget::structure::Structure;
+use vizretarget::{retarget, Image, Options, Size};
+
+fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
+    for y in y0..y1 {
+        for x in x0..x1 {
+            img.set(x, y, c);
+        }
+    }
+}
+
+fn frame(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32) {
+    let c = [110, 110, 110, 255];
+    rect(img, x0, y0, x1, y0 + 1, c);
+    rect(img, x0, y1 - 1, x1, y1, c);
+    rect(img, x0, y0, x0 + 1, y1, c);
+    rect(img, x1 - 1, y0, x1, y1, c);
+}
+
+/// Two framed panels, a bar chart, a title and a text legend.
+fn dashboard() -> Image {
+    let mut img = Image::filled(Size::new(800, 500).unwrap(), [255; 4]);
+    draw_label(&mut img, 30.0, 12.0, 28.0, "Quarterly sales");
+    frame(&mut img, 20, 60, 390, 480);
+    frame(&mut img, 410, 60, 780, 480);
+    // Bar chart: an axis and five bars.
+    rect(&mut img, 50, 440, 370, 442, [60, 60, 60, 255]);
+    for (i, hgt) in [220u32, 160, 300, 120, 250].iter().enumerate() {
+        let x = 70 + i as u32 * 60;
+        rect(&mut img, x, 440 - hgt, x + 34, 440, [44, 123, 182, 255]);
+    }
+    // Legend: coloured squares and their labels.
+    let legend = [
+        ("North region", [215, 25, 28, 255]),
+        ("South region", [26, 150, 65, 255]),
+        ("Western region", [230, 97, 1, 255]),
+    ];
+    for (i, (label, c)) in legend.iter().enumerate() {
+        let y = 100 + i as u32 * 40;
+        rect(&mut img, 440, y, 456, y + 16, *c);
+        draw_label(&mut img, 466.0, y as f32 - 2.0, 18.0, label);
+    }
+    img
+}
+
+struct Found {
+    /// Horizontal and vertical lines at least as long as a panel's side.
+    long_h: usize,
+    long_v: usize,
+    /// Vertical lines as long as a bar's side.
+    bar_sides: usize,
+}
+
+fn lines(img: &Image, min_h: f64, min_v: f64, bar: f64) -> Found {
+    let s = Structure::detect(img.as_ref());
+    Found {
+        long_h: s
+            .horizontal
+            .iter()
+            .filter(|l| l.to - l.from >= min_h)
+            .count(),
+        long_v: s.vertical.iter().filter(|l| l.to - l.from >= min_v).count(),
+        bar_sides: s
+            .vertical
+            .iter()
+            .filter(|l| l.to - l.from >= bar && l.to - l.from < min_v)
+            .count(),
+    }
+}
+
+fn title_aspect(img: &Image) -> f64 {
+    let s = Structure::detect(img.as_ref());
+    let t = s
+        .text
+        .iter()
+        .filter(|b| b.y1 < 60)
+        .max_by_key(|b| (b.x1 - b.x0) * (b.y1 - b.y0))
+        .expect("the title is found");
+    (t.x1 - t.x0) as f64 / (t.y1 - t.y0) as f64
+}
+
+fn check(width: u32, options: &Options) -> Result<(), String> {
+    let img = dashboard();
+    let source = lines(&img, 300.0, 400.0, 100.0);
+    assert!(source.long_h >= 4 && source.long_v >= 4 && source.bar_sides >= 10);
+    let source_aspect = title_aspect(&img);
+    let target = Size::new(width, 500).unwrap();
+    let out = retarget(&img, target, options).unwrap().image;
+    let sx = width as f64 / 800.0;
+    // Each panel's top and bottom frame survive as long straight rows (detected runs bridge at
+    // most 1-px gaps, so a line bent or tilted by a pixel breaks into short runs), each side as
+    // a long straight column.
+    let found = lines(&out, 300.0 * sx.min(1.0) * 0.8, 400.0 * 0.95, 100.0);
+    if found.long_h < 4 || found.long_v < 4 {
+        return Err(format!(
+            "{width}: {} / {} long lines",
+            found.long_h, found.long_v
+        ));
+    }
+    if found.bar_sides < 10 {
+        return Err(format!("{width}: {} bar sides", found.bar_sides));
+    }
+    let aspect = title_aspect(&out);
+    if (aspect / source_aspect - 1.0).abs() > 0.05 {
+        return Err(format!(
+            "{width}: title aspect {aspect:.2} vs {source_aspect:.2}"
+        ));
+    }
+    Ok(())
+}
+
+#[test]
+fn dashboard_widened_keeps_lines_bars_and_text_in_shape() {
+    check(1280, &Options::default()).unwrap();
+}
+
+#[test]
+#[ignore = "open (issue 5): at half width the frames, bars and legend conflict and the fold repair breaks the left panel's frame"]
+fn dashboard_halved_keeps_lines_bars_and_text_in_shape() {
+    check(400, &Options::default()).unwrap();
+}
+
+/// Without the structure constraints (the paper's method alone) the widened dashboard fails
+/// the same check: the test above measures what the constraints do.
+#[test]
+fn without_structure_the_check_fails() {
+    let options = Options {
+        structure: false,
+        ..Options::default()
+    };
+    assert!(check(1280, &options).is_err());
+}
