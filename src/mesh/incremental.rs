@@ -290,19 +290,27 @@ impl IncrementalMesh {
         // what falls in the region.
         let points = sample_key_points(vsm, options.alpha, &self.marks);
         let bits = |p: Point2<f64>| (p.x.to_bits(), p.y.to_bits());
+        // The structure's skeleton (line and text-block points and their constraint edges)
+        // stays as built: ordinary points near it are neither removed nor added.
+        let structure = self.structure.clone();
+        let crowded = |p: DVec2| structure.as_deref().is_some_and(|s| crowds(s, p));
         let mut wanted: std::collections::HashMap<(u64, u64), Point2<f64>> = points
             .iter()
-            .filter(|k| k.kind != KeyPointKind::Corner && region.contains(k.pos))
+            .filter(|k| k.kind != KeyPointKind::Corner && region.contains(k.pos) && !crowded(k.pos))
             .map(|k| key(k.pos, size, 0).pos)
             .map(|p| (bits(p), p))
             .collect();
+        let skeleton = &self.roles;
         let doomed: Vec<Point2<f64>> = self
             .tri
             .vertices()
             .map(|v| v.data().pos)
             .filter(|p| {
                 let q = DVec2::new(p.x, p.y);
-                region.contains(q) && !corner_pts.contains(&q) && wanted.remove(&bits(*p)).is_none()
+                region.contains(q)
+                    && !corner_pts.contains(&q)
+                    && !skeleton.contains_key(&bits(*p))
+                    && wanted.remove(&bits(*p)).is_none()
             })
             .collect();
         for p in doomed {

@@ -147,11 +147,7 @@ impl MeshStage {
                 changed_saliency(self.reference.as_ref().expect("have"), vsm, &self.reuse);
             if changed.is_empty() {
                 Decision::Reuse
-            } else if changed.fraction() > self.reuse.rebuild_fraction
-                || self.touches_structure(&changed)
-            {
-                // Lines and text blocks are constraint edges of the triangulation: re-sampling
-                // around them is a rebuild.
+            } else if changed.fraction() > self.reuse.rebuild_fraction {
                 Decision::Rebuild
             } else {
                 // Re-sample one tile beyond the change, so a ring around a moved mark that
@@ -187,27 +183,6 @@ impl MeshStage {
             decision,
             region: TileMask::new(size, self.reuse.tile_px),
         }
-    }
-}
-
-impl MeshStage {
-    /// Whether tiles of `mask` (grown by one) hold any line or text block of the current mesh.
-    fn touches_structure(&self, mask: &TileMask) -> bool {
-        let Some(st) = self.inc.as_ref().and_then(|i| i.structure()) else {
-            return false;
-        };
-        let grown = mask.dilated();
-        st.horizontal
-            .iter()
-            .any(|l| grown.intersects(l.from, l.pos - 1.0, l.to, l.pos + 1.0))
-            || st
-                .vertical
-                .iter()
-                .any(|l| grown.intersects(l.pos - 1.0, l.from, l.pos + 1.0, l.to))
-            || st
-                .text
-                .iter()
-                .any(|b| grown.intersects(b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64))
     }
 }
 
