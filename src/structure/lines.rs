@@ -25,33 +25,42 @@ pub struct Line {
 
 /// Horizontal lines of a `w × h` luminance image.
 pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Vec<Line> {
-    let edges = edge_runs(h, w, |b, i| {
-        // boundary b between rows b-1 and b, position i along it
-        (l[b * w + i] as i16 - l[(b - 1) * w + i] as i16).abs() > EDGE_STEP
+    let edges = edge_runs(h, w, |b, flags| {
+        // boundary b between rows b-1 and b
+        let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
+        for ((f, &u), &d) in flags.iter_mut().zip(up).zip(down) {
+            *f = u.abs_diff(d) as i16 > EDGE_STEP;
+        }
     });
     pair_thin(edges)
 }
 
 /// Vertical lines of a `w × h` luminance image.
 pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Vec<Line> {
-    let edges = edge_runs(w, h, |b, i| {
-        (l[i * w + b] as i16 - l[i * w + b - 1] as i16).abs() > EDGE_STEP
-    });
-    pair_thin(edges)
+    // Column boundaries are walked on a transposed copy, so that both directions read rows.
+    let mut t = vec![0u8; w * h];
+    for (y, row) in l.chunks_exact(w).enumerate() {
+        for (x, &v) in row.iter().enumerate() {
+            t[x * h + y] = v;
+        }
+    }
+    horizontal(&t, h, w)
 }
 
-/// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) where `edge` holds,
+/// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) where `edge` sets
+/// the flags,
 /// 1-px gaps bridged, of at least [`MIN_LENGTH_PX`]: `(boundary, from, to)`.
 fn edge_runs(
     n_boundaries: usize,
     len: usize,
-    edge: impl Fn(usize, usize) -> bool,
+    edge: impl Fn(usize, &mut [bool]),
 ) -> Vec<(u32, u32, u32)> {
     let mut out = Vec::new();
     let mut flags = vec![false; len];
     for b in 1..n_boundaries {
-        for (i, f) in flags.iter_mut().enumerate() {
-            *f = edge(b, i);
+        edge(b, &mut flags);
+        if !flags.iter().any(|&f| f) {
+            continue;
         }
         let mut i = 0;
         while i < len {

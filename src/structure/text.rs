@@ -55,31 +55,48 @@ pub(crate) fn detect(l: &[u8], w: usize, h: usize) -> Vec<TextBlock> {
     merge_blocks(lines)
 }
 
-/// Pixels whose 3×3 luminance range exceeds [`STROKE_RANGE`].
+/// Pixels whose 3×3 luminance range exceeds [`STROKE_RANGE`]. Separable max and min over
+/// shifted row slices, so that the loops vectorize (a per-pixel window scan was most of the
+/// detection time).
 fn stroke_mask(l: &[u8], w: usize, h: usize) -> Vec<bool> {
-    // Separable max and min of radius 1.
     let mut rmax = vec![0u8; w * h];
     let mut rmin = vec![0u8; w * h];
     for y in 0..h {
         let row = &l[y * w..][..w];
-        for x in 0..w {
-            let (a, b) = (x.saturating_sub(1), (x + 1).min(w - 1));
-            let s = &row[a..=b];
-            rmax[y * w + x] = *s.iter().max().unwrap_or(&0);
-            rmin[y * w + x] = *s.iter().min().unwrap_or(&0);
+        let (omax, omin) = (&mut rmax[y * w..][..w], &mut rmin[y * w..][..w]);
+        omax.copy_from_slice(row);
+        omin.copy_from_slice(row);
+        if w > 1 {
+            for x in 0..w - 1 {
+                let r = row[x + 1];
+                omax[x] = omax[x].max(r);
+                omin[x] = omin[x].min(r);
+            }
+            for x in 1..w {
+                let l = row[x - 1];
+                omax[x] = omax[x].max(l);
+                omin[x] = omin[x].min(l);
+            }
         }
     }
     let mut out = vec![false; w * h];
     for y in 0..h {
         let (a, b) = (y.saturating_sub(1), (y + 1).min(h - 1));
+        let (ma, mc, mb) = (
+            &rmax[a * w..][..w],
+            &rmax[y * w..][..w],
+            &rmax[b * w..][..w],
+        );
+        let (na, nc, nb) = (
+            &rmin[a * w..][..w],
+            &rmin[y * w..][..w],
+            &rmin[b * w..][..w],
+        );
+        let o = &mut out[y * w..][..w];
         for x in 0..w {
-            let mut mx = 0u8;
-            let mut mn = 255u8;
-            for yy in a..=b {
-                mx = mx.max(rmax[yy * w + x]);
-                mn = mn.min(rmin[yy * w + x]);
-            }
-            out[y * w + x] = mx - mn > STROKE_RANGE;
+            let mx = ma[x].max(mc[x]).max(mb[x]);
+            let mn = na[x].min(nc[x]).min(nb[x]);
+            o[x] = mx - mn > STROKE_RANGE;
         }
     }
     out
