@@ -79,8 +79,9 @@ pub(crate) struct TriangleTerms<'a> {
     pub boost: &'a [f64],
     /// Target scale per triangle (`δ_k` of Eq. 13), usually 1.
     pub delta: &'a [f64],
-    /// Per vertex, where the temporal term pulls it (empty: no temporal term).
-    pub anchors: &'a [Option<DVec2>],
+    /// Per vertex, where the temporal term pulls it and how much more than `τ` (empty: no
+    /// temporal term).
+    pub anchors: &'a [Option<(DVec2, f64)>],
     /// The scale text blocks are pulled to.
     pub text_scale: f64,
 }
@@ -230,7 +231,7 @@ pub(crate) fn assemble(
     // Temporal term: τ·|z − anchor|² on anchored coordinates.
     let tau = params.temporal;
     for (v, a) in terms.anchors.iter().enumerate() {
-        let Some(a) = a else { continue };
+        let Some((a, k)) = *a else { continue };
         for (z, target) in [(layout.x[v], a.x), (layout.y[v], a.y)] {
             if z.is_fixed() {
                 continue;
@@ -239,7 +240,7 @@ pub(crate) fn assemble(
                 c: z.c - target,
                 ..z
             };
-            pair(&shifted, &shifted, tau, rhs, &mut entry);
+            pair(&shifted, &shifted, tau * k, rhs, &mut entry);
         }
     }
 }

@@ -119,7 +119,7 @@ pub struct Solver {
     lambda: Vec<f64>,
     boost: Vec<f64>,
     delta: Vec<f64>,
-    anchors: Vec<Option<DVec2>>,
+    anchors: Vec<Option<(DVec2, f64)>>,
     text_scale: f64,
     text_fit: f64,
     pairs: Vec<(u32, u32)>,
@@ -205,14 +205,15 @@ impl Solver {
     /// size prior's target (the value of the last full solve, so that a local update does not
     /// change the scale of everything else). Returns `None` if folds remain after the repair
     /// rounds: the caller then solves the whole mesh. A free vertex `i` with `anchors[i] =
-    /// Some(p)` is pulled towards `p` by the temporal term ([`EnergyParams::temporal`]).
+    /// Some((p, k))` is pulled towards `p` by the temporal term ([`EnergyParams::temporal`]
+    /// times `k`).
     pub fn solve_local(
         &mut self,
         mesh: &Mesh,
         vsm: &Vsm,
         target: Size,
         fixed: &[Option<DVec2>],
-        anchors: &[Option<DVec2>],
+        anchors: &[Option<(DVec2, f64)>],
         salient_scale: f64,
     ) -> Result<Option<(Warp, SolveStats)>, Error> {
         weights::triangle_saliency(mesh, vsm, &mut self.lambda);

@@ -12,9 +12,14 @@ use crate::render::Renderer;
 use crate::saliency::{Rect, Vsm, VsmBuilder};
 use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
 use crate::structure::Structure;
+use crate::raster::snap;
 use glam::DVec2;
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
+
+/// How much harder than other re-sampled vertices a moved mark's centre is held where the
+/// previous warp maps it.
+const MARK_CENTRE_HOLD: f64 = 1000.0;
 
 /// Above this share of changed tiles the VSM is recomputed whole (with fresh normalization).
 const FULL_VSM_FRACTION: f64 = 0.5;
@@ -240,12 +245,30 @@ impl SolveStage {
                 let fixed: Vec<Option<DVec2>> =
                     mesh.ids().iter().map(|id| held.get(id).copied()).collect();
                 // New vertices are pulled to where the previous warp maps their source point.
+                // A moved mark's centre is held much harder: it then lands where the old warp
+                // maps it, a smooth function of its position, and the mark moves in the output
+                // by as many whole pixels as that says (no extra jumps from re-solving).
                 let locator = WarpLocator::new(pm, pw);
-                let anchors: Vec<Option<DVec2>> = mesh
+                let centres: std::collections::HashSet<(u64, u64)> = mesh
+                    .marks()
+                    .iter()
+                    .map(|m| (snap(m.center.x).to_bits(), snap(m.center.y).to_bits()))
+                    .collect();
+                let anchors: Vec<Option<(DVec2, f64)>> = mesh
                     .vertices()
                     .iter()
                     .zip(&fixed)
-                    .map(|(&p, f)| if f.is_some() { None } else { locator.map(p) })
+                    .map(|(&p, f)| {
+                        if f.is_some() {
+                            return None;
+                        }
+                        let k = if centres.contains(&(p.x.to_bits(), p.y.to_bits())) {
+                            MARK_CENTRE_HOLD
+                        } else {
+                            1.0
+                        };
+                        locator.map(p).map(|q| (q, k))
+                    })
                     .collect();
                 if let Some((warp, stats)) = self.solver.solve_local(
                     mesh,
