@@ -177,6 +177,18 @@ impl IncrementalMesh {
         options: &MeshOptions,
         first_id: u64,
     ) -> (IncrementalMesh, Mesh) {
+        IncrementalMesh::build_with_points(vsm, structure, &[], options, first_id)
+    }
+
+    /// Like [`IncrementalMesh::build_with`], with `extra` points that are always vertices (the
+    /// centres of vector marks bound to the mesh, §5.3).
+    pub fn build_with_points(
+        vsm: &Vsm,
+        structure: Option<&Structure>,
+        extra: &[DVec2],
+        options: &MeshOptions,
+        first_id: u64,
+    ) -> (IncrementalMesh, Mesh) {
         let size = vsm.size();
         let sk = structure
             .filter(|s| !s.is_empty())
@@ -233,6 +245,11 @@ impl IncrementalMesh {
                         edges.push([a, b]);
                     }
                 }
+            }
+        }
+        for &p in extra {
+            if p.x >= 0.0 && p.y >= 0.0 && p.x <= size.width as f64 && p.y <= size.height as f64 {
+                push(p, &mut input);
             }
         }
         for k in &points {

@@ -84,6 +84,9 @@ pub(crate) struct TriangleTerms<'a> {
     pub anchors: &'a [Option<(DVec2, f64)>],
     /// The scale text blocks are pulled to.
     pub text_scale: f64,
+    /// Per-triangle enhancement factors (empty: none); a factor other than 1 brings the size
+    /// prior to its triangle whatever its saliency.
+    pub enhance: &'a [f64],
 }
 
 /// Source-shape data of one triangle, fixed for a topology.
@@ -190,8 +193,9 @@ pub(crate) fn assemble(
         }
         let mut ss = 2.0 * c * delta * delta;
         let lambda = terms.lambda[t];
-        if lambda >= params.prior_threshold {
-            let mu = params.prior_strength * g.area * w[t];
+        let enhanced = terms.enhance.get(t).is_some_and(|&e| e != 1.0);
+        if lambda >= params.prior_threshold || enhanced {
+            let mu = params.prior_strength * g.area * if enhanced { w[t].max(0.5) } else { w[t] };
             ss += mu;
             rhs[layout.s_var[t] as usize] += mu;
         }

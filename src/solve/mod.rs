@@ -120,6 +120,8 @@ pub struct Solver {
     boost: Vec<f64>,
     delta: Vec<f64>,
     anchors: Vec<Option<(DVec2, f64)>>,
+    /// Per-triangle enhancement factors (empty: none).
+    enhance: Vec<f64>,
     text_scale: f64,
     text_fit: f64,
     pairs: Vec<(u32, u32)>,
@@ -159,6 +161,33 @@ impl Solver {
 
     /// Solves `mesh` on `vsm` for `target`, repairing fold-overs.
     pub fn solve(
+        &mut self,
+        mesh: &Mesh,
+        vsm: &Vsm,
+        target: Size,
+    ) -> Result<(Warp, SolveStats), Error> {
+        self.enhance.clear();
+        self.solve_inner(mesh, vsm, target)
+    }
+
+    /// Like [`Solver::solve`], with content enhancement (§5.4, Eq. 13): triangle `t` is asked to
+    /// take `enhance[t]` times the scale it would otherwise get (1 = unchanged, 1.5 = half as
+    /// large again). A triangle with a factor other than 1 gets the size prior whatever its
+    /// saliency, so the factor acts on any level.
+    pub fn solve_enhanced(
+        &mut self,
+        mesh: &Mesh,
+        vsm: &Vsm,
+        target: Size,
+        enhance: &[f64],
+    ) -> Result<(Warp, SolveStats), Error> {
+        self.enhance.clear();
+        self.enhance.extend_from_slice(enhance);
+        self.enhance.resize(mesh.triangles().len(), 1.0);
+        self.solve_inner(mesh, vsm, target)
+    }
+
+    fn solve_inner(
         &mut self,
         mesh: &Mesh,
         vsm: &Vsm,
@@ -269,6 +298,9 @@ impl Solver {
         self.boost.resize(nt, 1.0);
         self.delta.clear();
         self.delta.resize(nt, salient_scale);
+        for (d, &e) in self.delta.iter_mut().zip(&self.enhance) {
+            *d *= e;
+        }
         self.text_scale = self.text_fit;
         if self.topology != Some(key) {
             self.geom = energy::geometry(mesh);
@@ -281,6 +313,7 @@ impl Solver {
                 delta: &self.delta,
                 anchors: &self.anchors,
                 text_scale: self.text_scale,
+                enhance: &self.enhance,
             };
             let pairs = &mut self.pairs;
             energy::assemble(
@@ -337,6 +370,7 @@ impl Solver {
             delta: &self.delta,
             anchors: &self.anchors,
             text_scale: self.text_scale,
+            enhance: &self.enhance,
         };
         let system = &mut self.system;
         let mut k = 0usize;
@@ -475,6 +509,7 @@ mod tests {
             delta: &ones,
             anchors: &[],
             text_scale: 1.0,
+            enhance: &[],
         };
         let e0 = energy::energy_of(
             &mesh,
