@@ -135,3 +135,30 @@ fn without_structure_the_check_fails() {
     };
     assert!(check(1280, &options).is_err());
 }
+
+/// A 1-px rule in a region shrunk to half width stays one dark pixel wide (the solver puts it
+/// on the pixel grid, the renderer samples only its own side of it): no 2-px smear at half
+/// contrast.
+#[test]
+fn thin_rules_stay_sharp_when_shrunk() {
+    let mut img = Image::filled(Size::new(600, 300).unwrap(), [255; 4]);
+    for x in [150u32, 301, 452] {
+        rect(&mut img, x, 20, x + 1, 280, [0, 0, 0, 255]);
+    }
+    let out = retarget(&img, Size::new(300, 300).unwrap(), &Options::default())
+        .unwrap()
+        .image;
+    // Count, for each rule, the output columns where row 150 is darker than mid-grey.
+    let row: Vec<u8> = (0..300).map(|x| out.get(x, 150)[0]).collect();
+    let dark: Vec<usize> = (0..300).filter(|&x| row[x] < 60).collect();
+    assert_eq!(
+        dark.len(),
+        3,
+        "three sharp one-pixel rules, got dark columns {dark:?}: {row:?}"
+    );
+    // And each is straight: the same column all the way down.
+    for &x in &dark {
+        let straight = (25..275).all(|y| out.get(x as u32, y)[0] < 60);
+        assert!(straight, "rule at column {x} is not straight");
+    }
+}

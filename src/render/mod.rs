@@ -112,7 +112,16 @@ impl Renderer {
             // The pixel's footprint on the source is the parallelogram of these two steps;
             // its extent along each source axis picks the ripmap level.
             let (ex, ey) = (m[0][0].abs() + m[0][1].abs(), m[1][0].abs() + m[1][1].abs());
-            let (lx, ly) = (level_for(ex), level_for(ey));
+            // A triangle with a side on a structure line (or a text block's border) samples only
+            // inside itself, at full resolution: the line, snapped onto the output grid by the
+            // solver, then stays one pixel sharp instead of being averaged with what lies
+            // across it by a ripmap texel or a bilinear tap.
+            let fenced = on_structure(mesh, tri);
+            let (lx, ly) = if fenced {
+                (0, 0)
+            } else {
+                (level_for(ex), level_for(ey))
+            };
             let (kx, ky) = ((1u32 << lx) as f64, (1u32 << ly) as f64);
             let col_x = DVec2::new(m[0][0] / kx, m[1][0] / ky); // level texels per output px in x
             let col_y = DVec2::new(m[0][1] / kx, m[1][1] / ky);
@@ -187,6 +196,18 @@ impl Renderer {
                 w: level.width() as i32,
                 h: level.height() as i32,
             };
+            // The source box the fenced samples stay in. A side on a pixel boundary (an edge
+            // between two regions) keeps samples half a pixel inside, so nothing of the other
+            // side is read; a side through pixel centres (a thin line, the mesh edge along its
+            // middle) lets the line's own pixels be read exactly.
+            let (bmin, bmax) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+            let inset = |v: f64| if v.fract() == 0.0 { 0.5 } else { 0.0 };
+            let fence = [
+                (bmin.x + inset(bmin.x)).min(bmax.x) as f32,
+                (bmin.y + inset(bmin.y)).min(bmax.y) as f32,
+                (bmax.x - inset(bmax.x)).max(bmin.x) as f32,
+                (bmax.y - inset(bmax.y)).max(bmin.y) as f32,
+            ];
             // Output pixel centre → level coordinates.
             let map = |x: f64, y: f64| -> DVec2 {
                 let d = DVec2::new(x, y) - q[0];
@@ -204,6 +225,33 @@ impl Renderer {
                 if crisp {
                     for px in row.iter_mut() {
                         *px = tex.nearest(u, v);
+                        u += du;
+                        v += dv;
+                    }
+                    return;
+                }
+                if fenced {
+                    let inv = 1.0 / (4096.0 * n as f32);
+                    for px in row.iter_mut() {
+                        let mut acc = [0f32; 4];
+                        let mut sum = [0u32; 3];
+                        for &(ou, ov) in offs {
+                            let (su, sv) = (
+                                (u + ou).clamp(fence[0], fence[2]),
+                                (v + ov).clamp(fence[1], fence[3]),
+                            );
+                            if opaque {
+                                let s = sample::unpack(tex.bilinear_lanes(su, sv));
+                                sum = [sum[0] + s[0], sum[1] + s[1], sum[2] + s[2]];
+                            } else {
+                                tex.bilinear_premul(su, sv, &mut acc);
+                            }
+                        }
+                        *px = if opaque {
+                            sample::finish_sum(sum, inv)
+                        } else {
+                            sample::finish_premul(acc, n)
+                        };
                         u += du;
                         v += dv;
                     }
@@ -244,7 +292,112 @@ impl Renderer {
                 }
             });
         }
+        overlay_thin_lines(src, mesh, warp, dst);
     }
+}
+
+/// Redraws the structure's thin lines (1–3 px rules, frames, grid lines) pixel for pixel along
+/// their warped course: a line shrunk across its width would otherwise be averaged with what
+/// lies beside it (a 1-px rule at half width would become a 50 % grey smear). The solver has
+/// put each line on the output grid the way it sat on the source grid, so its pixels are copied
+/// whole; along the line, the source position comes from the line's own vertices.
+fn overlay_thin_lines(src: ImageRef<'_>, mesh: &Mesh, warp: &Warp, dst: &mut Image) {
+    let Some(st) = mesh.structure() else { return };
+    let roles = mesh.roles();
+    let (tw, th) = (dst.width() as i64, dst.height() as i64);
+    let (sw, sh) = (src.width() as i64, src.height() as i64);
+    for horizontal in [true, false] {
+        let lines = if horizontal {
+            &st.horizontal
+        } else {
+            &st.vertical
+        };
+        for (k, l) in lines.iter().enumerate() {
+            if l.width == 0 || l.width > 3 {
+                continue;
+            }
+            // The line's vertices, in order along it: (source along, output along, output across).
+            let mut pts: Vec<(f64, f64, f64)> = roles
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| {
+                    if horizontal {
+                        r.hline == Some(k as u32)
+                    } else {
+                        r.vline == Some(k as u32)
+                    }
+                })
+                .map(|(i, _)| {
+                    let (p, q) = (mesh.vertices()[i], warp.positions()[i]);
+                    if horizontal {
+                        (p.x, q.x, q.y)
+                    } else {
+                        (p.y, q.y, q.x)
+                    }
+                })
+                .collect();
+            if pts.len() < 2 {
+                continue;
+            }
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // All on one line across (the solver's shared unknown); skip anything else.
+            let across = pts[0].2;
+            if pts.iter().any(|p| p.2 != across) {
+                continue;
+            }
+            let half = l.width as f64 / 2.0;
+            let first_src = (l.pos - half).round() as i64;
+            let first_dst = (across - half).round() as i64;
+            for w in pts.windows(2) {
+                let ((s0, o0, _), (s1, o1, _)) = (w[0], w[1]);
+                if o1 <= o0 {
+                    continue;
+                }
+                let (a, b) = (
+                    o0.ceil() as i64,
+                    (o1.ceil() as i64).min(if horizontal { tw } else { th }),
+                );
+                for o in a.max(0)..b {
+                    let t = (o as f64 + 0.5 - o0) / (o1 - o0);
+                    let s = (s0 + t * (s1 - s0)).floor() as i64;
+                    for i in 0..l.width as i64 {
+                        let (sx, sy, dx, dy) = if horizontal {
+                            (s, first_src + i, o, first_dst + i)
+                        } else {
+                            (first_src + i, s, first_dst + i, o)
+                        };
+                        if sx < 0
+                            || sy < 0
+                            || sx >= sw
+                            || sy >= sh
+                            || dx < 0
+                            || dy < 0
+                            || dx >= tw
+                            || dy >= th
+                        {
+                            continue;
+                        }
+                        let px = src.pixels()[(sy * sw + sx) as usize];
+                        dst.set(dx as u32, dy as u32, px);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Whether a triangle has a side along one structure line or text-block border.
+fn on_structure(mesh: &Mesh, tri: &[u32; 3]) -> bool {
+    let roles = mesh.roles();
+    if roles.is_empty() {
+        return false;
+    }
+    (0..3).any(|i| {
+        let (a, b) = (roles[tri[i] as usize], roles[tri[(i + 1) % 3] as usize]);
+        (a.hline.is_some() && a.hline == b.hline)
+            || (a.vline.is_some() && a.vline == b.vline)
+            || (a.block.is_some() && a.block == b.block)
+    })
 }
 
 /// For each vertex at the centre of a small mark: the whole-pixel shift `(dx, dy)` from source

@@ -21,6 +21,9 @@ pub struct Line {
     pub pos: f64,
     pub from: f64,
     pub to: f64,
+    /// Thickness in pixels of a thin line (its pixels span `pos ± width/2`); 0 for an edge
+    /// between two regions.
+    pub width: u32,
 }
 
 /// Horizontal lines of a `w × h` luminance image.
@@ -123,12 +126,14 @@ fn pair_thin(mut edges: Vec<(u32, u32, u32)>) -> Vec<Line> {
                     pos: (b + b2) as f64 / 2.0,
                     from: f.max(f2) as f64,
                     to: t.min(t2) as f64,
+                    width: b2 - b,
                 });
             }
             None => out.push(Line {
                 pos: b as f64,
                 from: f as f64,
                 to: t as f64,
+                width: 0,
             }),
         }
         used[i] = true;
