@@ -82,8 +82,8 @@ pub(crate) struct TriangleTerms<'a> {
     /// Per vertex, where the temporal term pulls it and how much more than `τ` (empty: no
     /// temporal term).
     pub anchors: &'a [Option<(DVec2, f64)>],
-    /// The scale text blocks are pulled to.
-    pub text_scale: f64,
+    /// Per text block, the scale it is pulled to (missing: 1).
+    pub text_targets: &'a [f64],
     /// Per-triangle enhancement factors (empty: none); a factor other than 1 brings the size
     /// prior to its triangle whatever its saliency.
     pub enhance: &'a [f64],
@@ -229,7 +229,7 @@ pub(crate) fn assemble(
             let mu = params.text_strength * area;
             let sv = block[2] as usize;
             entry(sv, sv, mu);
-            rhs[sv] += mu * terms.text_scale;
+            rhs[sv] += mu * terms.text_targets.get(k).copied().unwrap_or(1.0);
         }
     }
     // Temporal term: τ·|z − anchor|² on anchored coordinates.

@@ -134,16 +134,15 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
     fit_x.min(fit_y).min(1.0).max(linear.min(1.0))
 }
 
-/// The scale text blocks can keep: the largest at which the text crossing any row fits the
-/// target width (with the margin of [`FILL`]), and likewise for columns; at most 1.
-pub(crate) fn text_fit_scale(
+/// The scale each text block can keep: the largest at which the text crossing any of its rows
+/// fits the target width (with the margin of [`FILL`]), and likewise for its columns and the
+/// target height; at most 1. A title alone on its row keeps more than a legend crowded into
+/// one row with other labels.
+pub(crate) fn text_fit_scales(
     text: &[crate::structure::TextBlock],
     size: Size,
     target: Size,
-) -> f64 {
-    if text.is_empty() {
-        return 1.0;
-    }
+) -> Vec<f64> {
     let (w, h) = (size.width as usize, size.height as usize);
     let mut rows = vec![0u32; h];
     let mut cols = vec![0u32; w];
@@ -155,19 +154,15 @@ pub(crate) fn text_fit_scale(
             *c += b.y1 - b.y0;
         }
     }
-    let widest = *rows.iter().max().unwrap_or(&0) as f64;
-    let tallest = *cols.iter().max().unwrap_or(&0) as f64;
-    let fx = if widest > 0.0 {
-        FILL * target.width as f64 / widest
-    } else {
-        f64::INFINITY
-    };
-    let fy = if tallest > 0.0 {
-        FILL * target.height as f64 / tallest
-    } else {
-        f64::INFINITY
-    };
-    fx.min(fy).min(1.0)
+    text.iter()
+        .map(|b| {
+            let widest = rows[(b.y0 as usize).min(h)..(b.y1 as usize).min(h)].iter().copied().max().unwrap_or(0) as f64;
+            let tallest = cols[(b.x0 as usize).min(w)..(b.x1 as usize).min(w)].iter().copied().max().unwrap_or(0) as f64;
+            let fx = if widest > 0.0 { FILL * target.width as f64 / widest } else { 1.0 };
+            let fy = if tallest > 0.0 { FILL * target.height as f64 / tallest } else { 1.0 };
+            fx.min(fy).min(1.0)
+        })
+        .collect()
 }
 
 #[cfg(test)]

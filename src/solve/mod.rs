@@ -122,8 +122,8 @@ pub struct Solver {
     anchors: Vec<Option<(DVec2, f64)>>,
     /// Per-triangle enhancement factors (empty: none).
     enhance: Vec<f64>,
-    text_scale: f64,
-    text_fit: f64,
+    /// Per text block, the scale it is pulled to.
+    text_targets: Vec<f64>,
     pairs: Vec<(u32, u32)>,
     rhs: Vec<f64>,
 }
@@ -195,9 +195,9 @@ impl Solver {
     ) -> Result<(Warp, SolveStats), Error> {
         weights::triangle_saliency(mesh, vsm, &mut self.lambda);
         let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
-        self.text_fit = mesh
+        self.text_targets = mesh
             .structure()
-            .map_or(1.0, |s| fit::text_fit_scale(&s.text, mesh.size(), target));
+            .map_or(Vec::new(), |s| fit::text_fit_scales(&s.text, mesh.size(), target));
         let layout = Layout::new(mesh, target);
         self.anchors.clear();
         let Outcome {
@@ -205,7 +205,7 @@ impl Solver {
             scales,
             mut stats,
             folded: bad,
-        } = self.solve_with(mesh, layout, fit.min(self.text_fit))?;
+        } = self.solve_with(mesh, layout, fit)?;
         if !bad.is_empty() {
             let vt = repair::VertexTriangles::new(mesh);
             stats.untangled =
@@ -301,7 +301,20 @@ impl Solver {
         for (d, &e) in self.delta.iter_mut().zip(&self.enhance) {
             *d *= e;
         }
-        self.text_scale = self.text_fit;
+        // A triangle inside a text block aims at the block's own scale.
+        if let Some(st) = mesh.structure() {
+            let roles = mesh.roles();
+            for (t, tri) in mesh.triangles().iter().enumerate() {
+                let b = roles[tri[0] as usize].block;
+                if b.is_some() && tri.iter().all(|&v| roles[v as usize].block == b) {
+                    let k = b.unwrap_or(0) as usize;
+                    if k < st.text.len() {
+                        self.delta[t] = self.text_targets.get(k).copied().unwrap_or(1.0)
+                            * self.enhance.get(t).copied().unwrap_or(1.0);
+                    }
+                }
+            }
+        }
         if self.topology != Some(key) {
             self.geom = energy::geometry(mesh);
             self.pairs.clear();
@@ -312,7 +325,7 @@ impl Solver {
                 boost: &self.boost,
                 delta: &self.delta,
                 anchors: &self.anchors,
-                text_scale: self.text_scale,
+                text_targets: &self.text_targets,
                 enhance: &self.enhance,
             };
             let pairs = &mut self.pairs;
@@ -369,7 +382,7 @@ impl Solver {
             boost: &self.boost,
             delta: &self.delta,
             anchors: &self.anchors,
-            text_scale: self.text_scale,
+            text_targets: &self.text_targets,
             enhance: &self.enhance,
         };
         let system = &mut self.system;
@@ -508,7 +521,7 @@ mod tests {
             boost: &ones,
             delta: &ones,
             anchors: &[],
-            text_scale: 1.0,
+            text_targets: &[],
             enhance: &[],
         };
         let e0 = energy::energy_of(
