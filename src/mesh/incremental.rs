@@ -3,7 +3,7 @@
 //! vertex keeps its position and its id, so its solved position can be carried over.
 
 use super::marks::{find_marks, Mark};
-use super::sampling::{sample_key_points, KeyPointKind};
+use super::sampling::{sample_key_points, KeyPointKind, RING_EXCLUSION, RING_POINTS};
 use super::skeleton::{crowds, skeleton};
 use super::Role;
 use super::{Mesh, MeshOptions};
@@ -189,11 +189,33 @@ impl IncrementalMesh {
         options: &MeshOptions,
         first_id: u64,
     ) -> (IncrementalMesh, Mesh) {
+        IncrementalMesh::build_with_marks(vsm, structure, extra, &[], options, first_id)
+    }
+
+    /// Like [`IncrementalMesh::build_with_points`], with `given` marks (vector marks, §5.3)
+    /// ringed like the small marks found in `vsm`: each gets its centre and a ring of key
+    /// points at its `ring_radius`, lattice points near it are dropped, and a found mark whose
+    /// ring overlaps a given one's is dropped (it is the given mark, seen in the map). Given
+    /// rings are outside the ring budget of the found marks, up to [`GIVEN_RING_SHARE`] times
+    /// the key point budget (the largest by `pixels` first; the others keep their centres in
+    /// `extra` only).
+    pub fn build_with_marks(
+        vsm: &Vsm,
+        structure: Option<&Structure>,
+        extra: &[DVec2],
+        given: &[Mark],
+        options: &MeshOptions,
+        first_id: u64,
+    ) -> (IncrementalMesh, Mesh) {
         let size = vsm.size();
         let sk = structure
             .filter(|s| !s.is_empty())
             .map(|s| skeleton(s, size, options.alpha as f64));
         let mut marks = find_marks(vsm);
+        let given = GivenRings::new(given, size, options.alpha);
+        if !given.marks.is_empty() {
+            marks.retain(|m| !given.near(m.center, m.ring_radius, 1.0));
+        }
         if let Some(sk) = &sk {
             marks.retain(|m| {
                 !sk.structure.text.iter().any(|b| {
@@ -252,8 +274,15 @@ impl IncrementalMesh {
                 push(p, &mut input);
             }
         }
+        for p in given.key_points(size) {
+            push(p, &mut input);
+        }
         for k in &points {
             if k.kind == KeyPointKind::Corner {
+                continue;
+            }
+            if matches!(k.kind, KeyPointKind::Lattice(_)) && given.near(k.pos, 0.0, RING_EXCLUSION)
+            {
                 continue;
             }
             if let Some(sk) = &sk {
@@ -265,6 +294,7 @@ impl IncrementalMesh {
         }
         let tri = ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges, |_| {})
             .unwrap_or_default();
+        marks.extend_from_slice(&given.marks);
         let inc = IncrementalMesh {
             tri,
             size,
@@ -382,6 +412,96 @@ impl IncrementalMesh {
             }
             None => mesh,
         }
+    }
+}
+
+/// Given marks may add at most this share of the key point budget `w·h/α²` in rings.
+pub const GIVEN_RING_SHARE: f64 = 2.0;
+
+/// Given marks (vector marks) with their rings, indexed by a bucket grid.
+struct GivenRings {
+    marks: Vec<Mark>,
+    cell: f64,
+    buckets: HashMap<(i64, i64), Vec<u32>>,
+}
+
+impl GivenRings {
+    fn new(given: &[Mark], size: Size, alpha: f32) -> GivenRings {
+        let budget = size.area() as f64 / (alpha as f64 * alpha as f64);
+        let most = (budget * GIVEN_RING_SHARE / (RING_POINTS + 1) as f64) as usize;
+        let mut marks: Vec<Mark> = given
+            .iter()
+            .filter(|m| m.center.is_finite() && m.ring_radius.is_finite() && m.ring_radius > 0.0)
+            .copied()
+            .collect();
+        if marks.len() > most {
+            marks.sort_by_key(|m| std::cmp::Reverse(m.pixels));
+            marks.truncate(most);
+        }
+        let cell = 32.0;
+        let mut buckets: HashMap<(i64, i64), Vec<u32>> = HashMap::new();
+        for (i, m) in marks.iter().enumerate() {
+            // Reach of any query: its own radius is added in `near`, so index by the ring's
+            // exclusion disc.
+            let r = m.ring_radius * RING_EXCLUSION;
+            for cy in
+                ((m.center.y - r) / cell).floor() as i64..=((m.center.y + r) / cell).floor() as i64
+            {
+                for cx in ((m.center.x - r) / cell).floor() as i64
+                    ..=((m.center.x + r) / cell).floor() as i64
+                {
+                    buckets.entry((cx, cy)).or_default().push(i as u32);
+                }
+            }
+        }
+        GivenRings {
+            marks,
+            cell,
+            buckets,
+        }
+    }
+
+    /// Whether a disc of radius `r` at `p` comes within `k` ring radii of a given mark.
+    fn near(&self, p: DVec2, r: f64, k: f64) -> bool {
+        if self.marks.is_empty() {
+            return false;
+        }
+        // Cells within `r` of p: the buckets hold each mark over its exclusion disc.
+        let (c0, c1) = (
+            ((p.x - r) / self.cell).floor() as i64,
+            ((p.x + r) / self.cell).floor() as i64,
+        );
+        let (r0, r1) = (
+            ((p.y - r) / self.cell).floor() as i64,
+            ((p.y + r) / self.cell).floor() as i64,
+        );
+        (r0..=r1).any(|cy| {
+            (c0..=c1).any(|cx| {
+                self.buckets.get(&(cx, cy)).is_some_and(|list| {
+                    list.iter().any(|&i| {
+                        let m = &self.marks[i as usize];
+                        m.center.distance(p) < r + k * m.ring_radius
+                    })
+                })
+            })
+        })
+    }
+
+    /// Each given mark's centre and ring (points within half a pixel of the sides dropped).
+    fn key_points(&self, size: Size) -> Vec<DVec2> {
+        let (w, h) = (size.width as f64, size.height as f64);
+        let mut out = Vec::with_capacity(self.marks.len() * (RING_POINTS + 1));
+        for m in &self.marks {
+            out.push(m.center);
+            for i in 0..RING_POINTS {
+                let a = std::f64::consts::TAU * (i as f64 + 0.5) / RING_POINTS as f64;
+                let p = m.center + m.ring_radius * DVec2::new(a.cos(), a.sin());
+                if p.x > 0.5 && p.y > 0.5 && p.x < w - 0.5 && p.y < h - 0.5 {
+                    out.push(p);
+                }
+            }
+        }
+        out
     }
 }
 

@@ -48,7 +48,7 @@ const MIN_INTERVAL_PX: f64 = 4.0;
 /// Key points on each mark's ring.
 pub(crate) const RING_POINTS: usize = 8;
 /// Lattice points closer to a mark than this many ring radii are dropped.
-const RING_EXCLUSION: f64 = 1.5;
+pub(crate) const RING_EXCLUSION: f64 = 1.5;
 /// Rings may take at most this share of the budget; beyond it the largest marks keep theirs.
 const RING_BUDGET_SHARE: f64 = 0.5;
 
