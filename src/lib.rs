@@ -16,6 +16,8 @@
 //! ```
 //!
 //! The stages, in the order of the pipeline: [`saliency`], [`mesh`], [`solve`], [`render`].
+//! Marks given as vectors ([`vector`], §5.3) are bound to the mesh and redrawn crisp over the
+//! warped raster; [`enhance`] (§5.4) enlarges chosen levels or regions.
 
 mod error;
 mod image;
@@ -25,6 +27,7 @@ mod retargeter;
 pub mod baseline;
 pub mod compare;
 pub mod debug;
+pub mod enhance;
 pub mod io;
 pub mod mesh;
 pub mod metrics;
@@ -33,8 +36,10 @@ pub mod saliency;
 pub mod solve;
 pub mod stream;
 pub mod structure;
+pub mod vector;
 
 pub use baseline::{retarget_with, Method, MethodOutput};
+pub use enhance::{EnhanceMask, EnhanceRegion, Enhancement};
 pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
 pub use mesh::{Mesh, MeshOptions};
@@ -45,3 +50,4 @@ pub use retargeter::{
 pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
 pub use solve::{EnergyParams, SolveStats, Solver, Warp};
 pub use stream::{Decision, FrameSink, FrameSource, Pipeline, Repeat, RunSummary};
+pub use vector::{MarkSize, VectorLayer, VectorOptions};

@@ -3,6 +3,7 @@
 //! `send_frame` / `receive_frame` / `flush` follow rav1e's encoder API: the core is sequential
 //! and deterministic, and threaded pipelines wrap the same stage functions.
 
+use crate::enhance::Enhancement;
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::{Mesh, MeshOptions};
@@ -10,6 +11,7 @@ use crate::saliency::Vsm;
 use crate::solve::{EnergyParams, SolveStats, Warp};
 use crate::stream::stages::{MeshStage, RenderStage, SaliencyStage, SolveStage};
 use crate::stream::{Decision, ReuseOptions};
+use crate::vector::{Binding, RaisedVsm, VectorLayer, VectorOptions};
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::Instant;
@@ -30,6 +32,13 @@ pub struct Options {
     /// Detect lines and text and keep them straight and rigid (on by default; off gives the
     /// paper's method alone).
     pub structure: bool,
+    /// Vector marks for every frame that brings none of its own ([`Frame::marks`]): bound to
+    /// the mesh and redrawn over the warped raster (§5.3, see [`crate::vector`]).
+    pub marks: Option<Arc<VectorLayer>>,
+    /// How vector marks are bound and drawn.
+    pub vector: VectorOptions,
+    /// Content enhancement (§5.4, see [`crate::enhance`]); the default changes nothing.
+    pub enhance: Enhancement,
 }
 
 impl Default for Options {
@@ -40,6 +49,9 @@ impl Default for Options {
             keep_analysis: false,
             reuse: ReuseOptions::default(),
             structure: true,
+            marks: None,
+            vector: VectorOptions::default(),
+            enhance: Enhancement::default(),
         }
     }
 }
@@ -57,8 +69,25 @@ impl Options {
         self
     }
 
+    /// Draws `marks` over every frame that brings none of its own.
+    pub fn with_marks(mut self, marks: VectorLayer) -> Options {
+        self.marks = Some(Arc::new(marks));
+        self
+    }
+
+    /// Enhances content (§5.4).
+    pub fn with_enhancement(mut self, enhance: Enhancement) -> Options {
+        self.enhance = enhance;
+        self
+    }
+
     /// Checks every option, naming the value and the allowed range.
     pub fn validate(&self) -> Result<(), Error> {
+        self.enhance.validate()?;
+        if let Some(m) = &self.marks {
+            m.validate()
+                .map_err(|e| Error::InvalidOptions(format!("the marks: {e}")))?;
+        }
         if !(4.0..=200.0).contains(&self.alpha) {
             return Err(Error::InvalidOptions(format!(
                 "alpha {} is out of range: allowed 4 to 200",
@@ -105,6 +134,8 @@ pub struct Frame {
     pub frame_index: u64,
     /// How long the frame is shown, in milliseconds, if the source says (GIF delays).
     pub duration_ms: Option<u32>,
+    /// Vector marks of this frame (source coordinates); `None`: [`Options::marks`], if any.
+    pub marks: Option<Arc<VectorLayer>>,
 }
 
 impl Frame {
@@ -113,7 +144,14 @@ impl Frame {
             image,
             frame_index,
             duration_ms: None,
+            marks: None,
         }
+    }
+
+    /// This frame with its vector marks.
+    pub fn with_marks(mut self, marks: VectorLayer) -> Frame {
+        self.marks = Some(Arc::new(marks));
+        self
     }
 }
 
@@ -165,6 +203,9 @@ pub struct Retargeted {
     pub duration_ms: Option<u32>,
     pub stats: FrameStats,
     pub analysis: Option<Analysis>,
+    /// The frame's vector marks as placed and drawn on [`Retargeted::image`] (output
+    /// coordinates, same order as given; radii as drawn).
+    pub marks: Option<Arc<VectorLayer>>,
 }
 
 /// Why [`Retargeter::receive_frame`] has no frame.
@@ -185,6 +226,7 @@ pub struct Retargeter {
     mesh: MeshStage,
     solve: SolveStage,
     render: RenderStage,
+    raised: RaisedVsm,
     ready: VecDeque<Retargeted>,
     flushed: bool,
 }
@@ -204,8 +246,10 @@ impl Retargeter {
                 options.reuse.clone(),
                 options.structure,
             ),
-            solve: SolveStage::new(options.energy.clone(), target),
+            solve: SolveStage::new(options.energy.clone(), target)
+                .with_enhancement(&options.enhance),
             render: RenderStage::default(),
+            raised: RaisedVsm::default(),
             options,
             ready: VecDeque::new(),
             flushed: false,
@@ -241,25 +285,45 @@ impl Retargeter {
         self.flushed = true;
     }
 
-    fn process(&mut self, frame: Frame) -> Result<Retargeted, Error> {
+    fn process(&mut self, mut frame: Frame) -> Result<Retargeted, Error> {
         let mut times = StageTimes::default();
         let t0 = Instant::now();
-        let sal = self.saliency.run(&frame.image);
+        let whole = crate::vector::prepare_frame(
+            &mut frame,
+            self.options.marks.as_ref(),
+            &self.options.vector,
+        )?;
+        // With vector marks, saliency and structure are those of the whole picture.
+        let analysed = whole.as_ref().unwrap_or(&frame.image);
+        let mut sal = self.saliency.run(analysed);
+        sal.vsm = self.raised.apply(&sal.vsm, frame.marks.as_ref());
         let t1 = Instant::now();
         times.vsm_ms = ms(t0, t1);
-        let meshed = self.mesh.run(&sal, &frame.image);
+        let bind = Binding::of(frame.marks.as_deref(), frame.image.size());
+        let meshed = self
+            .mesh
+            .run_with_marks(&sal, analysed, &bind.points, &bind.rings);
         let t2 = Instant::now();
         times.mesh_ms = ms(t1, t2);
         let solved = self.solve.run(&sal.vsm, &meshed)?;
         let t3 = Instant::now();
         times.solve_ms = ms(t2, t3);
-        let image = self.render.run(
+        let mut image = self.render.run(
             &frame.image,
             &meshed.mesh,
             &solved.warp,
             &sal.dirty,
             solved.decision,
         );
+        let marks = frame.marks.as_ref().map(|m| {
+            crate::vector::overlay(
+                &mut image,
+                m,
+                &meshed.mesh,
+                &solved.warp,
+                &self.options.vector,
+            )
+        });
         times.render_ms = ms(t3, Instant::now());
         let region_tiles = meshed.region.count();
         Ok(finish(
@@ -271,6 +335,7 @@ impl Retargeter {
                 solved,
                 region_tiles,
                 times,
+                marks,
             },
             self.options.keep_analysis,
         ))
@@ -286,6 +351,8 @@ pub(crate) struct FrameParts {
     pub solved: crate::stream::stages::Solved,
     pub region_tiles: usize,
     pub times: StageTimes,
+    /// The vector marks as placed and drawn.
+    pub marks: Option<Arc<VectorLayer>>,
 }
 
 /// The output record of one frame.
@@ -298,6 +365,7 @@ pub(crate) fn finish(parts: FrameParts, keep_analysis: bool) -> Retargeted {
         solved,
         region_tiles,
         times,
+        marks,
     } = parts;
     let stats = FrameStats {
         vertices: mesh.vertices().len(),
@@ -324,6 +392,7 @@ pub(crate) fn finish(parts: FrameParts, keep_analysis: bool) -> Retargeted {
         duration_ms: frame.duration_ms,
         stats,
         analysis,
+        marks,
     }
 }
 

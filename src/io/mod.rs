@@ -68,5 +68,6 @@ pub(crate) fn test_frame(
         duration_ms,
         stats: Default::default(),
         analysis: None,
+        marks: None,
     }
 }

@@ -142,6 +142,11 @@ impl Vsm {
         }
     }
 
+    /// The values and importance planes, for raising them where vector marks lie (§5.3).
+    pub(crate) fn planes_mut(&mut self) -> (&mut [f32], &mut [f32]) {
+        (&mut self.values, &mut self.importance)
+    }
+
     /// A VSM from given values (clamped to `[0, 1]`), e.g. a user-painted map. Importance and
     /// edges are taken equal to the values.
     pub fn from_values(size: Size, values: Vec<f32>) -> Option<Vsm> {

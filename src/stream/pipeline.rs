@@ -14,6 +14,7 @@ use crate::error::Error;
 use crate::image::Size;
 use crate::mesh::MeshOptions;
 use crate::retargeter::{finish, Frame, FrameParts, Options, StageTimes};
+use crate::vector::{overlay, prepare_frame, Binding, RaisedVsm};
 use crossbeam_channel::{bounded, Receiver, Sender};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -56,6 +57,9 @@ struct WithVsm {
     frame: Frame,
     sal: Saliency,
     times: StageTimes,
+    /// The raster with the frame's vector marks drawn in, when it has any: what the VSM and
+    /// the structure are computed on.
+    whole: Option<crate::image::Image>,
 }
 
 struct WithMesh {
@@ -152,18 +156,27 @@ impl Pipeline {
                     .expect("spawn ingest"),
             );
             let mut saliency = SaliencyStage::new(options.reuse.clone());
+            let mut raised = RaisedVsm::default();
             handles.push(
                 std::thread::Builder::new()
                     .name("vsm".into())
                     .spawn_scoped(s, move || {
-                        stage(rx0, tx1, stop, |frame| {
+                        stage(rx0, tx1, stop, |mut frame: Frame| {
                             let t = Instant::now();
-                            let sal = saliency.run(&frame.image);
+                            let whole =
+                                prepare_frame(&mut frame, options.marks.as_ref(), &options.vector)?;
+                            let mut sal = saliency.run(whole.as_ref().unwrap_or(&frame.image));
+                            sal.vsm = raised.apply(&sal.vsm, frame.marks.as_ref());
                             let times = StageTimes {
                                 vsm_ms: ms(t),
                                 ..StageTimes::default()
                             };
-                            Ok(WithVsm { frame, sal, times })
+                            Ok(WithVsm {
+                                frame,
+                                sal,
+                                times,
+                                whole,
+                            })
                         })
                     })
                     .expect("spawn vsm"),
@@ -181,7 +194,13 @@ impl Pipeline {
                     .spawn_scoped(s, move || {
                         stage(rx1, tx2, stop, |m: WithVsm| {
                             let t = Instant::now();
-                            let meshed = mesher.run(&m.sal, &m.frame.image);
+                            let bind = Binding::of(m.frame.marks.as_deref(), m.frame.image.size());
+                            let meshed = mesher.run_with_marks(
+                                &m.sal,
+                                m.whole.as_ref().unwrap_or(&m.frame.image),
+                                &bind.points,
+                                &bind.rings,
+                            );
                             let mut times = m.times;
                             times.mesh_ms = ms(t);
                             Ok(WithMesh {
@@ -194,7 +213,8 @@ impl Pipeline {
                     })
                     .expect("spawn mesh"),
             );
-            let mut solver = SolveStage::new(options.energy.clone(), target);
+            let mut solver =
+                SolveStage::new(options.energy.clone(), target).with_enhancement(&options.enhance);
             handles.push(
                 std::thread::Builder::new()
                     .name("solve".into())
@@ -223,13 +243,22 @@ impl Pipeline {
                     .spawn_scoped(s, move || {
                         stage(rx3, tx4, stop, |m: WithWarp| {
                             let t = Instant::now();
-                            let image = renderer.run(
+                            let mut image = renderer.run(
                                 &m.frame.image,
                                 &m.meshed.mesh,
                                 &m.solved.warp,
                                 &m.sal.dirty,
                                 m.solved.decision,
                             );
+                            let marks = m.frame.marks.as_ref().map(|l| {
+                                overlay(
+                                    &mut image,
+                                    l,
+                                    &m.meshed.mesh,
+                                    &m.solved.warp,
+                                    &options.vector,
+                                )
+                            });
                             let mut times = m.times;
                             times.render_ms = ms(t);
                             let region_tiles = m.meshed.region.count();
@@ -242,6 +271,7 @@ impl Pipeline {
                                     solved: m.solved,
                                     region_tiles,
                                     times,
+                                    marks,
                                 },
                                 keep,
                             ))

@@ -5,14 +5,15 @@
 use super::reuse::{changed_saliency, ReuseOptions};
 use super::tiles::changed_tiles;
 use super::Decision;
+use crate::enhance::Enhancement;
 use crate::error::Error;
 use crate::image::{Image, Size};
-use crate::mesh::{IncrementalMesh, Mesh, MeshOptions, TileMask};
+use crate::mesh::{IncrementalMesh, Mark, Mesh, MeshOptions, TileMask};
+use crate::raster::snap;
 use crate::render::Renderer;
 use crate::saliency::{Rect, Vsm, VsmBuilder};
 use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
 use crate::structure::Structure;
-use crate::raster::snap;
 use glam::DVec2;
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
@@ -112,6 +113,10 @@ pub(crate) struct MeshStage {
     reference: Option<Vsm>,
     last_vsm: Option<Arc<Vsm>>,
     next_id: u64,
+    /// The points the current mesh was built to have as vertices, and the marks it was built
+    /// to ring (vector marks, §5.3).
+    points: Vec<DVec2>,
+    rings: Vec<Mark>,
 }
 
 /// What the mesh stage hands on.
@@ -133,16 +138,29 @@ impl MeshStage {
             reference: None,
             last_vsm: None,
             next_id: 0,
+            points: Vec::new(),
+            rings: Vec::new(),
         }
     }
 
-    pub fn run(&mut self, s: &Saliency, image: &Image) -> Meshed {
+    /// The mesh for this frame, with `points` that must be vertices (vector mark centres) and
+    /// `rings` (vector marks that stand alone): other points or rings than the current mesh's,
+    /// or a local update touching a point, rebuild.
+    pub fn run_with_marks(
+        &mut self,
+        s: &Saliency,
+        image: &Image,
+        points: &[DVec2],
+        rings: &[Mark],
+    ) -> Meshed {
         let vsm = &s.vsm;
         let size = vsm.size();
         let have = !s.fresh
             && self.reuse.enabled
             && self.mesh.as_ref().is_some_and(|m| m.size() == size)
-            && self.reference.is_some();
+            && self.reference.is_some()
+            && self.points == points
+            && self.rings == rings;
         let decision = if !have {
             Decision::Rebuild
         } else if self.last_vsm.as_ref().is_some_and(|l| Arc::ptr_eq(l, vsm)) {
@@ -152,7 +170,14 @@ impl MeshStage {
                 changed_saliency(self.reference.as_ref().expect("have"), vsm, &self.reuse);
             if changed.is_empty() {
                 Decision::Reuse
-            } else if changed.fraction() > self.reuse.rebuild_fraction {
+            } else if changed.fraction() > self.reuse.rebuild_fraction
+                || points.iter().any(|&p| changed.contains(p))
+                || rings.iter().any(|m| {
+                    let r = 1.5 * m.ring_radius;
+                    let c = m.center;
+                    changed.intersects(c.x - r, c.y - r, c.x + r, c.y + r)
+                })
+            {
                 Decision::Rebuild
             } else {
                 // Re-sample one tile beyond the change, so a ring around a moved mark that
@@ -176,8 +201,16 @@ impl MeshStage {
         self.last_vsm = Some(vsm.clone());
         if decision == Decision::Rebuild {
             let structure = self.structure.then(|| Structure::detect(image.as_ref()));
-            let (inc, mesh) =
-                IncrementalMesh::build_with(vsm, structure.as_ref(), &self.options, self.next_id);
+            let (inc, mesh) = IncrementalMesh::build_with_marks(
+                vsm,
+                structure.as_ref(),
+                points,
+                rings,
+                &self.options,
+                self.next_id,
+            );
+            self.points = points.to_vec();
+            self.rings = rings.to_vec();
             self.next_id = inc.next_id();
             self.inc = Some(inc);
             self.mesh = Some(Arc::new(mesh));
@@ -197,6 +230,8 @@ pub(crate) struct SolveStage {
     target: Size,
     prev: Option<(Arc<Mesh>, Arc<Warp>)>,
     salient_scale: f64,
+    /// Content enhancement (§5.4), when it changes anything.
+    enhance: Option<Enhancement>,
 }
 
 /// What the solve stage hands on.
@@ -215,7 +250,15 @@ impl SolveStage {
             target,
             prev: None,
             salient_scale: 1.0,
+            enhance: None,
         }
+    }
+
+    /// With content enhancement: every solve is a full one with `δ` per triangle (a local
+    /// update's solve has no `δ`).
+    pub fn with_enhancement(mut self, enhance: &Enhancement) -> SolveStage {
+        self.enhance = (!enhance.is_identity()).then(|| enhance.clone());
+        self
     }
 
     pub fn run(&mut self, vsm: &Vsm, m: &Meshed) -> Result<Solved, Error> {
@@ -234,7 +277,7 @@ impl SolveStage {
                 }
             }
         }
-        if m.decision == Decision::Update {
+        if m.decision == Decision::Update && self.enhance.is_none() {
             if let Some((pm, pw)) = &self.prev {
                 let held: HashMap<u64, DVec2> = pm
                     .ids()
@@ -288,7 +331,19 @@ impl SolveStage {
                 }
             }
         }
-        let (warp, stats) = self.solver.solve(mesh, vsm, self.target)?;
+        let (warp, stats) = match &self.enhance {
+            Some(e) => {
+                let delta = e.triangle_factors(mesh, vsm);
+                let held = e.held(vsm);
+                self.solver.solve_enhanced(
+                    mesh,
+                    held.as_ref().unwrap_or(vsm),
+                    self.target,
+                    &delta,
+                )?
+            }
+            None => self.solver.solve(mesh, vsm, self.target)?,
+        };
         self.salient_scale = stats.salient_scale;
         let warp = Arc::new(warp);
         self.prev = Some((mesh.clone(), warp.clone()));
