@@ -36,6 +36,17 @@ ends each run.
       Retarget each new or replaced dashboard snapshot as it lands, into phone/ under the same
       name. Ctrl-C stops.
 
+Vector marks and enhancement (the paper's 5.3 and 5.4):
+  vizretarget map.png --marks dots.json --width 400 -o map-narrow.png
+      The map is resized as a picture; the dots of dots.json are carried by the mesh and
+      drawn crisp and round over it. dots.json: {\"points\": [{\"x\": 120, \"y\": 80, \"r\": 6,
+      \"fill\": \"#d7191c\"}, ...], \"edges\": [{\"from\": 0, \"to\": 1, \"width\": 1.5}]}. Add
+      --paint-out-marks when the picture shows the dots too.
+  vizretarget map.png --same-size --enhance-region 300,120,200,150=1.5 -o europe.png
+      Enlarge a crowded region by half without changing the canvas size.
+  vizretarget frames/ --marks marks.jsonl --enhance 1,1,1.3 --width 400 -o narrow.gif
+      A stream with one line of marks per frame; salient content 30 % larger on every frame.
+
 Exit status: 0 done (also when the reader of stdout closes it early); 1 the input could not be
 read or the output not written; 2 usage error; 130 stopped by Ctrl-C (the first Ctrl-C finishes
 the frames in flight and completes the output, a second one quits at once).";
@@ -101,7 +112,7 @@ Exit status: 0 done, 1 the input could not be read or the sheet not written, 2 u
     disable_help_subcommand = true,
     subcommand_negates_reqs = true
 )]
-#[command(group = clap::ArgGroup::new("target").args(["size", "width", "height"]).required(true).multiple(true))]
+#[command(group = clap::ArgGroup::new("target").args(["size", "width", "height", "same_size"]).required(true).multiple(true))]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -135,6 +146,11 @@ pub struct Cli {
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
     pub height: Option<u32>,
 
+    /// Keep the input's size: with --enhance, --enhance-region or --enhance-mask, enlarge
+    /// what matters without resizing the canvas.
+    #[arg(long, conflicts_with_all = ["size", "width", "height"])]
+    pub same_size: bool,
+
     /// Mesh spacing α in px: the mesh gets about width·height/α² key points. Smaller follows
     /// small marks more closely but is slower; 4 to 200.
     #[arg(long, value_name = "N", default_value_t = 20.0)]
@@ -160,6 +176,113 @@ pub struct Cli {
 
     #[command(flatten)]
     pub stream: StreamArgs,
+
+    #[command(flatten)]
+    pub vector: VectorArgs,
+}
+
+/// Vector marks (§5.3) and content enhancement (§5.4).
+#[derive(clap::Args, Debug, Default)]
+pub struct VectorArgs {
+    /// Marks given as vectors, bound to the mesh and redrawn crisp (round stays round) over
+    /// the resized picture: a JSON file (one layer: for a stream, on every frame), a JSON
+    /// Lines file (.jsonl: one line per frame, in order), or a folder of per-frame files
+    /// (frame-0001.json for frame-0001.png). For a folder of frames, sidecars beside the
+    /// frames are used without this option. The format: points {x, y, r, fill, stroke,
+    /// stroke_width, id}, polylines {points, width, color}, edges {from, to, width, color}
+    /// (README, "Vector marks and enhancement").
+    #[arg(long, value_name = "FILE|DIR")]
+    pub marks: Option<PathBuf>,
+
+    /// The marks are also in the picture: fill their footprints from the colours around them
+    /// first, so that each is drawn once.
+    #[arg(long)]
+    pub paint_out_marks: bool,
+
+    /// Size of point marks: mesh (radius times the local scale the mesh gives the mark; they
+    /// grow with --enhance) or keep (radius as given).
+    #[arg(long, value_name = "RULE", value_enum, default_value_t = MarkSizeArg::Mesh)]
+    pub mark_size: MarkSizeArg,
+
+    /// Enlarge by saliency level: D1,D2,D3 are the factors of the background, context and
+    /// salient levels (the paper's δ_k, Eq. 13), e.g. 1,1,1.4; each 0.25 to 4.
+    #[arg(long, value_name = "D1,D2,D3", value_parser = parse_levels)]
+    pub enhance: Option<[f64; 3]>,
+
+    /// Enlarge a rectangle of the input, X,Y,W,H=FACTOR in input pixels, e.g.
+    /// 120,80,300,200=1.5 (factor 0.25 to 4). Repeat for more; where they overlap, the last
+    /// given wins. In a stream the rectangle stays where it is in the input and the mesh
+    /// carries it.
+    #[arg(long, value_name = "X,Y,W,H=F", value_parser = parse_region)]
+    pub enhance_region: Vec<vizretarget::EnhanceRegion>,
+
+    /// Enlarge where a grey picture is light: black leaves content as it is, white enlarges
+    /// it by --enhance-mask-factor, grey in between (linear in the grey level, times alpha).
+    /// Stretched over the frames if its size differs.
+    #[arg(long, value_name = "MASK.png")]
+    pub enhance_mask: Option<PathBuf>,
+
+    /// The factor white stands for in --enhance-mask, 0.25 to 4.
+    #[arg(long, value_name = "F", default_value_t = 1.5, requires = "enhance_mask",
+          value_parser = parse_factor)]
+    pub enhance_mask_factor: f64,
+}
+
+/// `--mark-size` values.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum MarkSizeArg {
+    #[default]
+    Mesh,
+    Keep,
+}
+
+fn parse_factor(s: &str) -> Result<f64, String> {
+    let f: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
+    let (lo, hi) = vizretarget::enhance::FACTOR_RANGE;
+    if !(lo..=hi).contains(&f) {
+        return Err(format!("factor {f} is out of range: {lo} to {hi}"));
+    }
+    Ok(f)
+}
+
+fn parse_levels(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "'{s}' is not three factors D1,D2,D3 (background, context, salient), e.g. 1,1,1.4"
+        ));
+    }
+    Ok([
+        parse_factor(parts[0])?,
+        parse_factor(parts[1])?,
+        parse_factor(parts[2])?,
+    ])
+}
+
+fn parse_region(s: &str) -> Result<vizretarget::EnhanceRegion, String> {
+    let usage = || format!("'{s}' is not X,Y,W,H=FACTOR (e.g. 120,80,300,200=1.5)");
+    let (rect, factor) = s.split_once('=').ok_or_else(usage)?;
+    let v: Vec<f64> = rect
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| usage())?;
+    if v.len() != 4 || v.iter().any(|x| !x.is_finite()) {
+        return Err(usage());
+    }
+    if v[2] <= 0.0 || v[3] <= 0.0 {
+        return Err(format!("'{s}': the width and height must be above 0"));
+    }
+    Ok(vizretarget::EnhanceRegion {
+        x: v[0],
+        y: v[1],
+        width: v[2],
+        height: v[3],
+        factor: parse_factor(factor)?,
+    })
 }
 
 /// Options of streams of frames.

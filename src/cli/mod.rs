@@ -5,11 +5,13 @@
 //!   [`vizretarget::Pipeline`].
 //! - `watch.rs`: `vizretarget watch DIR -o OUTDIR`.
 //! - `compare.rs`: `vizretarget compare INPUT -o SHEET.png`: every method side by side.
+//! - `marks.rs`: `--marks` and `--enhance*` (vector marks §5.3, content enhancement §5.4).
 //! - `report.rs`: progress bar, summary line, `--stats-json`; `interrupt.rs`: Ctrl-C.
 
 mod args;
 mod compare;
 mod interrupt;
+mod marks;
 mod report;
 mod still;
 mod stream;
@@ -52,6 +54,9 @@ pub fn run(cli: Cli) -> Result<Outcome> {
         OutputArg::Rgb24 => OutputChoice::Rgb24,
         OutputArg::Y4m => OutputChoice::Y4m,
     };
+    if cli.method != args::MethodArg::Mesh && marks::any(&cli.vector) {
+        bail!("--marks, --paint-out-marks and --enhance* work with --method mesh (the default)");
+    }
     match resolve_output(&output, choice).map_err(library_error)? {
         Destination::Still(format) if is_picture_file(&input) => {
             still::run(&cli, &input, &output, format)?;

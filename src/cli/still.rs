@@ -21,11 +21,15 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
             out_dir.display()
         );
     }
-    let options = Options::default()
+    let mut options = Options::default()
         .with_alpha(cli.alpha)
         .with_analysis(cli.debug_dir.is_some());
+    options = super::marks::apply(&cli.vector, options)?;
+    if let Some(layer) = super::marks::still_layer(&cli.vector)? {
+        options = options.with_marks(layer);
+    }
     options.validate()?;
-    if cli.size.is_none() && cli.width.is_none() && cli.height.is_none() {
+    if cli.size.is_none() && cli.width.is_none() && cli.height.is_none() && !cli.same_size {
         bail!("no target size: give --size WxH, or --width N and/or --height N");
     }
     let image = read_still(input)?;

@@ -10,7 +10,8 @@ use std::sync::atomic::Ordering;
 use vizretarget::io::{
     is_std, open_input, open_sink, FrameRate, InputFormat, SinkFormat, SinkOptions,
 };
-use vizretarget::stream::Progress;
+use vizretarget::stream::{Progress, VecSource};
+use vizretarget::vector::MarkedSource;
 use vizretarget::{Options, Pipeline, Size};
 
 pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> Result<Outcome> {
@@ -25,7 +26,7 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     if cli.debug_dir.is_some() {
         bail!("--debug-dir is for one picture; for a stream, retarget single frames with it");
     }
-    let options = Options::default().with_alpha(cli.alpha);
+    let options = super::marks::apply(&cli.vector, Options::default().with_alpha(cli.alpha))?;
     options.validate().map_err(library_error)?;
     if format == SinkFormat::PngSeq && !is_std(input_path) && same_folder(input_path, output) {
         bail!(
@@ -43,6 +44,10 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         InputArg::Png => InputFormat::PngStream,
     };
     let mut input = open_input(input_path, input_format, input_size).map_err(library_error)?;
+    if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {
+        let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
+        input.source = Box::new(MarkedSource::new(frames, marks));
+    }
     let from = match (cli.size, cli.width, cli.height) {
         (Some(_), _, _) | (None, Some(_), Some(_)) => input.known_size(),
         _ => input.frame_size()?,
