@@ -82,7 +82,10 @@ fn main() {
         let bytes: Vec<u8> = if rgba {
             img.as_bytes().to_vec()
         } else {
-            img.pixels().iter().flat_map(|p| [p[0], p[1], p[2]]).collect()
+            img.pixels()
+                .iter()
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect()
         };
         if out.write_all(&bytes).is_err() {
             return;
