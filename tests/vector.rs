@@ -617,3 +617,40 @@ fn painting_out_leaves_each_mark_once() {
     let out = retarget(&img, Size::new(150, 200).unwrap(), &options).unwrap();
     assert_eq!(blobs(&out.image).len(), 10);
 }
+
+/// A static stream with static marks reuses mesh and solution and gives identical frames; a
+/// mark that moves rebuilds, and lands where the new mesh carries it.
+#[test]
+fn static_marks_reuse_and_moving_marks_follow() {
+    let size = Size::new(320, 200).unwrap();
+    let layer = circles(size, 8, 31, (6.0, 8.0));
+    let bg = background(size);
+    let target = Size::new(200, 200).unwrap();
+    let mut r = Retargeter::new(target, Options::default().with_analysis(true)).unwrap();
+    let mut outs = Vec::new();
+    for i in 0..4u64 {
+        let mut l = layer.clone();
+        if i == 3 {
+            l.points[0].x += 12.0;
+        }
+        r.send_frame(Frame::new(bg.clone(), i).with_marks(l))
+            .unwrap();
+        outs.push(r.receive_frame().unwrap());
+    }
+    use vizretarget::Decision;
+    assert_eq!(outs[0].stats.decision, Decision::Rebuild);
+    for o in &outs[1..3] {
+        assert_eq!(o.stats.decision, Decision::Reuse, "frame {}", o.frame_index);
+        assert_eq!(o.image, outs[0].image);
+    }
+    let last = &outs[3];
+    assert_eq!(last.stats.decision, Decision::Rebuild);
+    let a = last.analysis.as_ref().unwrap();
+    let p = &last.marks.as_ref().unwrap().points[0];
+    let want = carried(
+        &a.mesh,
+        &a.warp,
+        DVec2::new(layer.points[0].x + 12.0, layer.points[0].y),
+    );
+    assert!(DVec2::new(p.x, p.y).distance(want) < 1e-6);
+}
