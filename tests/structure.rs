@@ -162,4 +162,3 @@ fn thin_rules_stay_sharp_when_shrunk() {
         assert!(straight, "rule at column {x} is not straight");
     }
 }
-

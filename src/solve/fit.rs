@@ -158,10 +158,26 @@ pub(crate) fn text_fit_scales(
     }
     text.iter()
         .map(|b| {
-            let widest = rows[(b.y0 as usize).min(h)..(b.y1 as usize).min(h)].iter().copied().max().unwrap_or(0) as f64;
-            let tallest = cols[(b.x0 as usize).min(w)..(b.x1 as usize).min(w)].iter().copied().max().unwrap_or(0) as f64;
-            let fx = if widest > 0.0 { TEXT_FILL * target.width as f64 / widest } else { 1.0 };
-            let fy = if tallest > 0.0 { TEXT_FILL * target.height as f64 / tallest } else { 1.0 };
+            let widest = rows[(b.y0 as usize).min(h)..(b.y1 as usize).min(h)]
+                .iter()
+                .copied()
+                .max()
+                .unwrap_or(0) as f64;
+            let tallest = cols[(b.x0 as usize).min(w)..(b.x1 as usize).min(w)]
+                .iter()
+                .copied()
+                .max()
+                .unwrap_or(0) as f64;
+            let fx = if widest > 0.0 {
+                TEXT_FILL * target.width as f64 / widest
+            } else {
+                1.0
+            };
+            let fy = if tallest > 0.0 {
+                TEXT_FILL * target.height as f64 / tallest
+            } else {
+                1.0
+            };
             fx.min(fy).min(1.0)
         })
         .collect()

@@ -195,9 +195,9 @@ impl Solver {
     ) -> Result<(Warp, SolveStats), Error> {
         weights::triangle_saliency(mesh, vsm, &mut self.lambda);
         let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
-        self.text_targets = mesh
-            .structure()
-            .map_or(Vec::new(), |s| fit::text_fit_scales(&s.text, mesh.size(), target));
+        self.text_targets = mesh.structure().map_or(Vec::new(), |s| {
+            fit::text_fit_scales(&s.text, mesh.size(), target)
+        });
         let layout = Layout::new(mesh, target);
         self.anchors.clear();
         let Outcome {

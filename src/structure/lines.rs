@@ -164,7 +164,8 @@ mod tests {
             Line {
                 pos: 20.5,
                 from: 10.0,
-                to: 110.0
+                to: 110.0,
+                width: 1
             }
         );
         assert_eq!(
@@ -172,7 +173,8 @@ mod tests {
             Line {
                 pos: 40.0,
                 from: 0.0,
-                to: 100.0
+                to: 100.0,
+                width: 0
             }
         );
         let vl = vertical(&l, w, h);
@@ -181,7 +183,8 @@ mod tests {
             vec![Line {
                 pos: 100.0,
                 from: 40.0,
-                to: 100.0
+                to: 100.0,
+                width: 0
             }]
         );
     }
