@@ -227,3 +227,38 @@ fn large_noise_to_extreme_strips() {
         within(&out.image, 60, 190).unwrap_or_else(|e| panic!("{target}: {e}"));
     }
 }
+
+/// The stream core, whose reuse paths (region updates of the VSM, warm-started solves, kept
+/// meshes) differ from a one-shot frame: degenerate frames in a row, uniform ↔ noise ↔ a
+/// one-pixel line, at degenerate targets, each frame exactly what its content allows.
+#[test]
+fn degenerate_frames_in_a_stream() {
+    use vizretarget::{Frame, Retargeter};
+    let size = Size::new(96, 64).unwrap();
+    let uniform = Image::filled(size, [200, 120, 40, 255]);
+    let busy = noise(size, 77, 60, 190);
+    let mut lined = uniform.clone();
+    for x in 0..96 {
+        lined.set(x, 30, [60, 60, 60, 255]);
+    }
+    let frames = [
+        &uniform, &uniform, &busy, &busy, &uniform, &lined, &lined, &busy,
+    ];
+    for (w, h) in [(1, 1), (16384, 16), (16, 16384), (1, 64), (300, 1)] {
+        let target = Size::new(w, h).unwrap();
+        let mut r = Retargeter::new(target, Options::default()).unwrap();
+        for (i, img) in frames.iter().enumerate() {
+            r.send_frame(Frame::new((*img).clone(), i as u64)).unwrap();
+            let out = r.receive_frame().expect("one frame out per frame in");
+            assert_eq!(out.image.size(), target);
+            let check = if std::ptr::eq(*img, &uniform) {
+                all_equal(&out.image, [200, 120, 40, 255])
+            } else if std::ptr::eq(*img, &busy) {
+                within(&out.image, 60, 190)
+            } else {
+                within(&out.image, 40, 200)
+            };
+            check.unwrap_or_else(|e| panic!("frame {i} -> {target}: {e}"));
+        }
+    }
+}
