@@ -116,11 +116,15 @@ impl Options {
                 r.tile_px
             )));
         }
-        if !(0.0..=1.0).contains(&r.tile_threshold) || !(0.0..=1.0).contains(&r.rebuild_fraction) {
-            return Err(Error::InvalidOptions(format!(
-                "reuse thresholds {} and {} are out of range: allowed 0 to 1",
-                r.tile_threshold, r.rebuild_fraction
-            )));
+        for (name, v) in [
+            ("tile threshold", r.tile_threshold as f64),
+            ("rebuild fraction", r.rebuild_fraction),
+        ] {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(Error::InvalidOptions(format!(
+                    "reuse {name} {v} is out of range: allowed 0 to 1"
+                )));
+            }
         }
         Ok(())
     }

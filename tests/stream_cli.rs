@@ -702,3 +702,75 @@ fn ctrl_c_finishes_the_gif_and_exits_130() {
     assert_eq!(ids, expected(frames.len()), "whole frames, in order");
     assert_eq!(listing(dir.path()), ["live.gif"], "no temporary file left");
 }
+
+/// The reuse policy's options reach the stream: a static stream reuses by default, is rebuilt
+/// every frame with --no-reuse (same pixels either way: the content never changed), and a
+/// threshold out of range is refused naming it.
+#[test]
+fn reuse_options_steer_the_stream() {
+    let dir = tempfile::tempdir().unwrap();
+    let one: Vec<u8> = frame(0).pixels().flat_map(|p| p.0).collect();
+    let input: Vec<u8> = one.iter().copied().cycle().take(one.len() * 6).collect();
+    let decisions = |extra: &[&str]| {
+        let json = dir.path().join("stats.json");
+        let mut args = vec![
+            "-",
+            "--input-format",
+            "rgba",
+            "--input-size",
+            "160x120",
+            "--size",
+            "100x120",
+            "-o",
+            "-",
+            "--output-format",
+            "rgba",
+            "-q",
+            "--stats-json",
+        ];
+        args.push(json.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let out = run_with_stdin(dir.path(), &args, input.clone());
+        assert_ok(&out);
+        let text = std::fs::read_to_string(&json).unwrap();
+        let d: Vec<String> = text
+            .split("\"decision\": \"")
+            .skip(1)
+            .map(|s| s.split('"').next().unwrap().to_string())
+            .collect();
+        (d, out.stdout)
+    };
+    let (reused, a) = decisions(&[]);
+    assert_eq!(reused[0], "rebuild");
+    assert!(reused[1..].iter().all(|d| d == "reuse"), "{reused:?}");
+    let (rebuilt, b) = decisions(&["--no-reuse"]);
+    assert_eq!(rebuilt.len(), 6);
+    assert!(rebuilt.iter().all(|d| d == "rebuild"), "{rebuilt:?}");
+    assert_eq!(a, b, "reuse must not change a static stream's pixels");
+
+    let out = run_with_stdin(
+        dir.path(),
+        &[
+            "-",
+            "--input-format",
+            "rgba",
+            "--input-size",
+            "160x120",
+            "--size",
+            "100x120",
+            "-o",
+            "-",
+            "--output-format",
+            "rgba",
+            "--tile-threshold",
+            "1.5",
+        ],
+        input.clone(),
+    );
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("tile threshold 1.5") && e.lines().count() == 1,
+        "{e}"
+    );
+}

@@ -3,6 +3,7 @@
 
 use clap::Parser;
 use std::path::PathBuf;
+use vizretarget::ReuseOptions;
 
 /// Help text after the options of `--help`: worked examples and exit codes.
 const EXAMPLES: &str = "\
@@ -317,6 +318,41 @@ pub struct StreamArgs {
     /// No progress bar and no summary line on stderr (errors are still reported).
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Build every frame from scratch: no reuse of the previous frame's mesh and solution
+    /// (slower, and static content may shimmer; for comparison).
+    #[arg(long, help_heading = "Reuse between frames")]
+    pub no_reuse: bool,
+
+    /// Side in px of the tiles saliency changes are tracked in: smaller tiles re-mesh less
+    /// around a small moving mark, larger ones cost less to compare. 4 to 1024.
+    #[arg(long, value_name = "PX", default_value_t = ReuseOptions::default().tile_px,
+          help_heading = "Reuse between frames")]
+    pub reuse_tile: u32,
+
+    /// Mean saliency change (0 to 1) above which a tile counts as changed; a 6-px dot moving
+    /// in a 32-px tile changes it by about 0.1. Raise it to ignore noise and flicker.
+    #[arg(long, value_name = "T", default_value_t = ReuseOptions::default().tile_threshold,
+          help_heading = "Reuse between frames")]
+    pub tile_threshold: f32,
+
+    /// Share of changed tiles (0 to 1) above which the mesh is rebuilt rather than updated
+    /// locally; no changed tile reuses mesh and solution as they are.
+    #[arg(long, value_name = "F", default_value_t = ReuseOptions::default().rebuild_fraction,
+          help_heading = "Reuse between frames")]
+    pub rebuild_fraction: f64,
+}
+
+impl StreamArgs {
+    /// The reuse policy these options ask for (checked by `Options::validate`).
+    pub fn reuse(&self) -> ReuseOptions {
+        ReuseOptions {
+            enabled: !self.no_reuse,
+            tile_px: self.reuse_tile,
+            tile_threshold: self.tile_threshold,
+            rebuild_fraction: self.rebuild_fraction,
+        }
+    }
 }
 
 /// Subcommands.

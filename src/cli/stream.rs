@@ -26,7 +26,8 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     if cli.debug_dir.is_some() {
         bail!("--debug-dir is for one picture; for a stream, retarget single frames with it");
     }
-    let options = super::marks::apply(&cli.vector, Options::default().with_alpha(cli.alpha))?;
+    let mut options = super::marks::apply(&cli.vector, Options::default().with_alpha(cli.alpha))?;
+    options.reuse = args.reuse();
     options.validate().map_err(library_error)?;
     if format == SinkFormat::PngSeq && !is_std(input_path) && same_folder(input_path, output) {
         bail!(
