@@ -202,7 +202,7 @@ proptest! {
         let mut img = Image::filled(src, [250, 250, 250, 255]);
         let mut rng = XorShift(seed | 1);
         for p in img.pixels_mut() {
-            if rng.next() % 7 == 0 {
+            if rng.next().is_multiple_of(7) {
                 *p = [20, 40, 160, 255];
             }
         }
