@@ -134,7 +134,12 @@ fn merge_overlapping(mut blobs: Vec<Mark>) -> Vec<Mark> {
             for (k, &i) in list.iter().enumerate() {
                 for &j in &list[k + 1..] {
                     let (a, b) = (&blobs[i], &blobs[j]);
-                    if a.center.distance(b.center) < a.ring_radius + b.ring_radius {
+                    // A group already too big for a ring (`pixels == 0`) takes no more: its
+                    // grown ring would swallow every mark around it, one merge at a time.
+                    if a.pixels > 0
+                        && b.pixels > 0
+                        && a.center.distance(b.center) < a.ring_radius + b.ring_radius
+                    {
                         let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
                         if ri != rj {
                             parent[ri.max(rj)] = ri.min(rj);
