@@ -314,10 +314,11 @@ impl Retargeter {
         times.solve_ms = ms(t2, t3);
         let mut image = self.render.run(
             &frame.image,
-            &meshed.mesh,
+            &sal.vsm,
+            &meshed,
             &solved.warp,
-            &sal.dirty,
             solved.decision,
+            &sal.dirty,
         );
         let marks = frame.marks.as_ref().map(|m| {
             crate::vector::overlay(

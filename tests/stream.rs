@@ -75,14 +75,156 @@ fn static_stream_gives_identical_frames_and_reuses() {
     }
 }
 
-/// A few dots moving: the mesh is updated locally, the output equals a fresh full render of
-/// the frame through that frame's mesh and warp (the partial render is exact), no fold, and
-/// pixels far from the movers do not change between frames.
+/// Pixels that differ between two images of the same size.
+fn changed(a: &Image, b: &Image) -> usize {
+    a.pixels()
+        .iter()
+        .zip(b.pixels())
+        .filter(|(p, q)| p != q)
+        .count()
+}
+
+/// Roundness (minor over major axis of the pixel covariance) of every 8-connected blob of
+/// exactly `rgba` in `img` with at least `min_px` pixels.
+fn blob_roundness(img: &Image, rgba: [u8; 4], min_px: usize) -> Vec<f64> {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let px = img.pixels();
+    let mut seen = vec![false; w * h];
+    let mut out = Vec::new();
+    for start in 0..w * h {
+        if seen[start] || px[start] != rgba {
+            continue;
+        }
+        seen[start] = true;
+        let (mut stack, mut pts) = (vec![start], Vec::new());
+        while let Some(i) = stack.pop() {
+            let (x, y) = ((i % w) as i64, (i / w) as i64);
+            pts.push((x as f64, y as f64));
+            for (dx, dy) in [
+                (-1, -1),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx >= 0 && ny >= 0 && (nx as usize) < w && (ny as usize) < h {
+                    let j = ny as usize * w + nx as usize;
+                    if !seen[j] && px[j] == rgba {
+                        seen[j] = true;
+                        stack.push(j);
+                    }
+                }
+            }
+        }
+        if pts.len() < min_px {
+            continue;
+        }
+        let n = pts.len() as f64;
+        let (mx, my) = pts
+            .iter()
+            .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+        let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+        for &(x, y) in &pts {
+            sxx += (x - mx) * (x - mx) / n;
+            syy += (y - my) * (y - my) / n;
+            sxy += (x - mx) * (y - my) / n;
+        }
+        let (tr, det) = (sxx + syy, sxx * syy - sxy * sxy);
+        let disc = (tr * tr / 4.0 - det).max(0.0).sqrt();
+        let (big, small) = (tr / 2.0 + disc, (tr / 2.0 - disc).max(0.0));
+        out.push((small / big).sqrt());
+    }
+    out
+}
+
+/// A few dots moving over a map while the rest stands still: the moved dots float over the
+/// kept mesh and solution (later frames are reuses), they keep their round shape wherever the
+/// warp carries them, and only the pixels they leave and reach change (re-meshing around
+/// each moved dot changed about 2.4 times the input's share of pixels at half width).
 #[test]
-fn moving_marks_update_locally_and_stay_exact() {
+fn moving_marks_float_over_the_kept_warp() {
     let size = Size::new(320, 200).unwrap();
     let target = Size::new(160, 200).unwrap();
     let frames: Vec<Image> = (0..12).map(|f| scene(size, f, 2)).collect();
+    let out = run_sequential(&frames, target, &Options::default());
+    assert_eq!(out[0].stats.decision, Decision::Rebuild);
+    // Until frame 9 the movers run free; then one runs into a cluster of dots and the group
+    // grows too big to be a mark, which is a change of regions: a local update, not a rebuild.
+    let decisions: Vec<Decision> = out.iter().map(|o| o.stats.decision).collect();
+    assert!(
+        decisions[1..9].iter().all(|&d| d == Decision::Reuse)
+            && decisions[9..].iter().all(|&d| d != Decision::Rebuild),
+        "decisions: {decisions:?}"
+    );
+    // On the reused frames the dots stay as round as they are in the input, floating ones as
+    // well as those the mesh rings (compared in sorted order: the k-th least round dot of the
+    // output against the k-th of the input; where a mover overlaps a dot both are cut in the
+    // input too). Known limit, not asserted: once the cluster is too big for a ring, the
+    // local update meshes it as a region and its dots are squeezed with it.
+    let roundness = |img: &Image| {
+        let mut r: Vec<f64> = [[215, 25, 28, 255], [44, 123, 182, 255], [26, 150, 65, 255]]
+            .iter()
+            .flat_map(|&c| blob_roundness(img, c, 20))
+            .collect();
+        r.sort_by(f64::total_cmp);
+        r
+    };
+    for (o, f) in out.iter().zip(&frames) {
+        if o.stats.decision == Decision::Update {
+            continue;
+        }
+        let (got, want) = (roundness(&o.image), roundness(f));
+        assert_eq!(got.len(), want.len(), "frame {}: dots lost", o.frame_index);
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                *g >= w - 0.05,
+                "frame {}: roundness {got:.2?} for input {want:.2?}",
+                o.frame_index
+            );
+        }
+    }
+    // A moved dot kept at its size changes as many output pixels as input pixels (plus its
+    // antialiased rim): at half the canvas that is an amplification of about 2 by itself.
+    // Anything that re-meshed or shimmered around it would change far more.
+    for (pair, inputs) in out.windows(2).zip(frames.windows(2)) {
+        if pair[1].stats.decision != Decision::Reuse {
+            continue;
+        }
+        let (o, i) = (
+            changed(&pair[0].image, &pair[1].image),
+            changed(&inputs[0], &inputs[1]),
+        );
+        assert!(i > 0);
+        assert!(
+            o as f64 <= 1.25 * i as f64,
+            "frame {}: {o} output pixels changed for {i} input pixels",
+            pair[1].frame_index
+        );
+    }
+}
+
+/// A bar growing (a region too big to be a mark): the mesh is updated locally, the output
+/// equals a fresh full render through that frame's mesh and warp (the partial render is
+/// exact), no fold, and the output changes only near the bar.
+#[test]
+fn a_growing_region_updates_locally_and_stays_exact() {
+    let size = Size::new(320, 200).unwrap();
+    let target = Size::new(160, 200).unwrap();
+    let frames: Vec<Image> = (0..10)
+        .map(|f| {
+            let mut img = scene(size, 0, 0);
+            for y in 110 - 4 * f..190 {
+                for x in 250..290 {
+                    img.set(x, y, [120, 60, 160, 255]);
+                }
+            }
+            img
+        })
+        .collect();
     let options = Options::default().with_analysis(true);
     let out = run_sequential(&frames, target, &options);
     let updates = out
@@ -90,7 +232,7 @@ fn moving_marks_update_locally_and_stay_exact() {
         .filter(|o| o.stats.decision == Decision::Update)
         .count();
     assert!(
-        updates >= 8,
+        updates >= 6,
         "decisions: {:?}",
         out.iter().map(|o| o.stats.decision).collect::<Vec<_>>()
     );
@@ -108,14 +250,7 @@ fn moving_marks_update_locally_and_stay_exact() {
     }
     // Temporal coherence: the share of output pixels that change between frames stays small.
     for pair in out.windows(2) {
-        let changed = pair[0]
-            .image
-            .pixels()
-            .iter()
-            .zip(pair[1].image.pixels())
-            .filter(|(a, b)| a != b)
-            .count();
-        let share = changed as f64 / target.area() as f64;
+        let share = changed(&pair[0].image, &pair[1].image) as f64 / target.area() as f64;
         assert!(
             share < 0.15,
             "frame {}: {share:.3} of the output changed",

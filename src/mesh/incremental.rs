@@ -376,6 +376,16 @@ impl IncrementalMesh {
         self.to_mesh()
     }
 
+    /// Whether `p` lies inside a text block of the structure the mesh was built around (text
+    /// is meshed as blocks, never as marks).
+    pub(crate) fn in_text(&self, p: DVec2) -> bool {
+        self.structure.as_deref().is_some_and(|s| {
+            s.text.iter().any(|b| {
+                p.x > b.x0 as f64 && p.x < b.x1 as f64 && p.y > b.y0 as f64 && p.y < b.y1 as f64
+            })
+        })
+    }
+
     /// The current triangulation as a [`Mesh`].
     pub fn to_mesh(&self) -> Mesh {
         let vertices: Vec<DVec2> = self

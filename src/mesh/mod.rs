@@ -13,6 +13,7 @@ mod skeleton;
 mod triangulate;
 
 pub use incremental::{IncrementalMesh, TileMask};
+pub(crate) use marks::find_marks;
 pub use marks::Mark;
 pub use sampling::{KeyPoint, KeyPointKind};
 
@@ -237,6 +238,53 @@ impl Mesh {
     /// The small marks the mesh was refined around.
     pub fn marks(&self) -> &[Mark] {
         &self.marks
+    }
+
+    /// The hub of each ringed mark: `(vertex at its centre, ring radius)`. A mark whose centre
+    /// is no vertex (it lost its ring to the budget, or text took it) has none.
+    pub fn mark_hubs(&self) -> Vec<(u32, f64)> {
+        if self.marks.is_empty() {
+            return Vec::new();
+        }
+        let radius: std::collections::HashMap<(u64, u64), f64> = self
+            .marks
+            .iter()
+            .map(|m| {
+                let key = (snap(m.center.x).to_bits(), snap(m.center.y).to_bits());
+                (key, m.ring_radius)
+            })
+            .collect();
+        self.vertices
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| {
+                radius
+                    .get(&(p.x.to_bits(), p.y.to_bits()))
+                    .map(|&r| (i as u32, r))
+            })
+            .collect()
+    }
+
+    /// Per triangle, whether it belongs to a mark's fan: one corner is a hub of
+    /// [`Mesh::mark_hubs`] and the other two lie on (or inside) its ring. Those triangles are
+    /// the mark: the solver holds them to a similarity, the renderer may copy them rigidly.
+    pub fn fan_triangles(&self) -> Vec<bool> {
+        let mut out = vec![false; self.triangles.len()];
+        let hubs = self.mark_hubs();
+        if hubs.is_empty() {
+            return out;
+        }
+        let radius: std::collections::HashMap<u32, f64> = hubs.into_iter().collect();
+        for (t, tri) in self.triangles.iter().enumerate() {
+            out[t] = tri.iter().any(|h| {
+                radius.get(h).is_some_and(|&r| {
+                    let c = self.vertices[*h as usize];
+                    tri.iter()
+                        .all(|&v| self.vertices[v as usize].distance(c) <= r * 1.01 + 0.01)
+                })
+            });
+        }
+        out
     }
 
     /// Number of free vertex coordinates once the boundary constraints hold: the paper's DOF.

@@ -51,6 +51,10 @@ pub(crate) const RING_POINTS: usize = 8;
 pub(crate) const RING_EXCLUSION: f64 = 1.5;
 /// Rings may take at most this share of the budget; beyond it the largest marks keep theirs.
 const RING_BUDGET_SHARE: f64 = 0.5;
+/// Rings every image may have whatever its budget: the budget scales with the area, but a
+/// small chart still has a few dozen marks, and a mark without a ring is squeezed with the
+/// ground around it (128 rings are about 1150 vertices, a few ms of solve).
+const MIN_RINGS: usize = 128;
 
 /// The per-level intervals `I_k` for a VSM, after the budget.
 pub(crate) fn intervals(vsm: &Vsm, alpha: f32, reserved: usize) -> [f64; 3] {
@@ -78,7 +82,8 @@ pub(crate) fn sample_key_points(vsm: &Vsm, alpha: f32, marks: &[Mark]) -> Vec<Ke
     let budget = size.area() as f64 / (alpha as f64 * alpha as f64);
 
     // Marks: keep the largest within the ring budget.
-    let max_rings = ((budget * RING_BUDGET_SHARE) / (RING_POINTS + 1) as f64) as usize;
+    let max_rings =
+        (((budget * RING_BUDGET_SHARE) / (RING_POINTS + 1) as f64) as usize).max(MIN_RINGS);
     let mut marks: Vec<&Mark> = marks.iter().collect();
     if marks.len() > max_rings {
         marks.sort_by_key(|m| std::cmp::Reverse(m.pixels));

@@ -7,12 +7,17 @@
 //! * [`sample`]: bilinear, or a box of bilinear taps over the pixel's footprint where the
 //!   triangle minifies by more than 1.25× along an axis.
 
+mod fill;
+mod floating;
 mod ripmap;
 mod sample;
 
+pub(crate) use fill::fill_from_surroundings;
+pub(crate) use floating::Floating;
+
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;
-use crate::raster::{rasterize, snap, FixedPoint};
+use crate::raster::{rasterize, FixedPoint};
 use crate::solve::Warp;
 use glam::DVec2;
 use sample::Texels;
@@ -403,22 +408,13 @@ fn on_structure(mesh: &Mesh, tri: &[u32; 3]) -> bool {
 /// For each vertex at the centre of a small mark: the whole-pixel shift `(dx, dy)` from source
 /// to output that its fan is copied with (the rounded displacement of the centre).
 fn rigid_offsets(mesh: &Mesh, warp: &Warp) -> std::collections::HashMap<u32, (i64, i64)> {
-    let centres: std::collections::HashMap<(u64, u64), ()> = mesh
-        .marks()
-        .iter()
-        .map(|m| ((snap(m.center.x).to_bits(), snap(m.center.y).to_bits()), ()))
-        .collect();
-    let mut out = std::collections::HashMap::new();
-    if centres.is_empty() {
-        return out;
-    }
-    for (i, p) in mesh.vertices().iter().enumerate() {
-        if centres.contains_key(&(p.x.to_bits(), p.y.to_bits())) {
-            let d = warp.positions()[i] - *p;
-            out.insert(i as u32, (d.x.round() as i64, d.y.round() as i64));
-        }
-    }
-    out
+    mesh.mark_hubs()
+        .into_iter()
+        .map(|(i, _)| {
+            let d = warp.positions()[i as usize] - mesh.vertices()[i as usize];
+            (i, (d.x.round() as i64, d.y.round() as i64))
+        })
+        .collect()
 }
 
 /// The colour of every source pixel within `margin` px of the triangle's bounding box, if

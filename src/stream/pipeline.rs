@@ -245,10 +245,11 @@ impl Pipeline {
                             let t = Instant::now();
                             let mut image = renderer.run(
                                 &m.frame.image,
-                                &m.meshed.mesh,
+                                &m.sal.vsm,
+                                &m.meshed,
                                 &m.solved.warp,
-                                &m.sal.dirty,
                                 m.solved.decision,
+                                &m.sal.dirty,
                             );
                             let marks = m.frame.marks.as_ref().map(|l| {
                                 overlay(

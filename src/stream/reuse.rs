@@ -30,13 +30,21 @@ impl Default for ReuseOptions {
 }
 
 /// Tiles (of `tile_px` image pixels) where `now` differs from `reference` by more than the
-/// threshold. Both maps must have the same size and scale.
-pub(crate) fn changed_saliency(reference: &Vsm, now: &Vsm, options: &ReuseOptions) -> TileMask {
+/// threshold, not counting map cells within the rectangles `ignore` (`[x0, y0, x1, y1]` in
+/// image px: where small marks were and are, which float over the warp instead of re-meshing
+/// it). Both maps must have the same size and scale.
+pub(crate) fn changed_saliency(
+    reference: &Vsm,
+    now: &Vsm,
+    options: &ReuseOptions,
+    ignore: &[[f64; 4]],
+) -> TileMask {
     let size = now.size();
     let mut mask = TileMask::new(size, options.tile_px);
     let s = now.scale();
     let grid = now.grid_size();
     let (gw, gh) = (grid.width as usize, grid.height as usize);
+    let ignored = ignored_cells(ignore, s, gw, gh);
     let cells = (options.tile_px / s).max(1) as usize;
     let (a, b) = (reference.values(), now.values());
     for row in 0..mask.rows() as usize {
@@ -54,7 +62,19 @@ pub(crate) fn changed_saliency(reference: &Vsm, now: &Vsm, options: &ReuseOption
                 if ra == rb {
                     continue;
                 }
-                sum += ra.iter().zip(rb).map(|(p, q)| (p - q).abs()).sum::<f32>();
+                match &ignored {
+                    None => sum += ra.iter().zip(rb).map(|(p, q)| (p - q).abs()).sum::<f32>(),
+                    Some(ig) => {
+                        let skip = &ig[y * gw + x0..y * gw + x1];
+                        sum += ra
+                            .iter()
+                            .zip(rb)
+                            .zip(skip)
+                            .filter(|(_, &k)| !k)
+                            .map(|((p, q), _)| (p - q).abs())
+                            .sum::<f32>();
+                    }
+                }
             }
             let mean = sum / ((x1 - x0) * (y1 - y0)) as f32;
             if mean > options.tile_threshold {
@@ -63,4 +83,24 @@ pub(crate) fn changed_saliency(reference: &Vsm, now: &Vsm, options: &ReuseOption
         }
     }
     mask
+}
+
+/// One flag per map cell (`gw × gh`, `s` px each) that meets a rectangle of `rects`, or `None`
+/// without rectangles.
+fn ignored_cells(rects: &[[f64; 4]], s: u32, gw: usize, gh: usize) -> Option<Vec<bool>> {
+    if rects.is_empty() {
+        return None;
+    }
+    let s = s as f64;
+    let mut out = vec![false; gw * gh];
+    for &[x0, y0, x1, y1] in rects {
+        let cx0 = (x0 / s).floor().max(0.0) as usize;
+        let cy0 = (y0 / s).floor().max(0.0) as usize;
+        let cx1 = ((x1 / s).ceil().max(0.0) as usize).min(gw);
+        let cy1 = ((y1 / s).ceil().max(0.0) as usize).min(gh);
+        for y in cy0..cy1 {
+            out[y * gw + cx0..y * gw + cx1.max(cx0)].fill(true);
+        }
+    }
+    Some(out)
 }

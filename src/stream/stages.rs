@@ -8,10 +8,10 @@ use super::Decision;
 use crate::enhance::Enhancement;
 use crate::error::Error;
 use crate::image::{Image, Size};
-use crate::mesh::{IncrementalMesh, Mark, Mesh, MeshOptions, TileMask};
+use crate::mesh::{find_marks, IncrementalMesh, Mark, Mesh, MeshOptions, TileMask};
 use crate::raster::snap;
-use crate::render::Renderer;
-use crate::saliency::{Rect, Vsm, VsmBuilder};
+use crate::render::{Floating, Renderer};
+use crate::saliency::{Rect, Vsm, VsmBuilder, DILATION_RADIUS};
 use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
 use crate::structure::Structure;
 use glam::DVec2;
@@ -117,6 +117,8 @@ pub(crate) struct MeshStage {
     /// to ring (vector marks, §5.3).
     points: Vec<DVec2>,
     rings: Vec<Mark>,
+    /// This frame's small marks that the mesh does not ring.
+    floating: Arc<Vec<Mark>>,
 }
 
 /// What the mesh stage hands on.
@@ -125,6 +127,9 @@ pub(crate) struct Meshed {
     pub decision: Decision,
     /// The tiles whose key points were re-sampled (for [`Decision::Update`]).
     pub region: TileMask,
+    /// Small marks of this frame that the mesh does not ring (they moved or appeared since
+    /// it was built): drawn at their own size over the warp ([`crate::render::Floating`]).
+    pub floating: Arc<Vec<Mark>>,
 }
 
 impl MeshStage {
@@ -140,6 +145,7 @@ impl MeshStage {
             next_id: 0,
             points: Vec::new(),
             rings: Vec::new(),
+            floating: Arc::default(),
         }
     }
 
@@ -161,14 +167,47 @@ impl MeshStage {
             && self.reference.is_some()
             && self.points == points
             && self.rings == rings;
+        // Raster marks float only without vector marks (those steer the mesh themselves).
+        let floats = points.is_empty() && rings.is_empty();
         let decision = if !have {
             Decision::Rebuild
         } else if self.last_vsm.as_ref().is_some_and(|l| Arc::ptr_eq(l, vsm)) {
             Decision::Reuse
         } else {
-            let changed =
-                changed_saliency(self.reference.as_ref().expect("have"), vsm, &self.reuse);
+            let inc = self.inc.as_ref().expect("have");
+            let current: Vec<Mark> = if floats {
+                find_marks(vsm)
+                    .into_iter()
+                    .filter(|m| !inc.in_text(m.center))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            // Small marks, where the mesh rings them and where they are now, do not count
+            // as change: a mark that moves or appears floats over the kept warp. Their
+            // saliency reaches beyond their box by the VSM's blur, Sobel and dilation.
+            let ignore: Vec<[f64; 4]> = if floats {
+                let mesh = self.mesh.as_ref().expect("have");
+                let reach = ((DILATION_RADIUS + 2) as u32 * vsm.scale() + 1) as f64;
+                mesh.marks()
+                    .iter()
+                    .chain(&current)
+                    .map(|m| {
+                        let [x0, y0, x1, y1] = m.bbox.map(|v| v as f64);
+                        [x0 - reach, y0 - reach, x1 + reach, y1 + reach]
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let changed = changed_saliency(
+                self.reference.as_ref().expect("have"),
+                vsm,
+                &self.reuse,
+                &ignore,
+            );
             if changed.is_empty() {
+                self.floating = Arc::new(unringed(current, self.mesh.as_ref().expect("have")));
                 Decision::Reuse
             } else if changed.fraction() > self.reuse.rebuild_fraction
                 || points.iter().any(|&p| changed.contains(p))
@@ -180,8 +219,6 @@ impl MeshStage {
             {
                 Decision::Rebuild
             } else {
-                // Re-sample one tile beyond the change, so a ring around a moved mark that
-                // spills into the next tile goes too.
                 let region = changed.clone();
                 let inc = self.inc.as_mut().expect("have");
                 let mesh = Arc::new(inc.update(vsm, &self.options, &region));
@@ -189,12 +226,14 @@ impl MeshStage {
                 if let Some(r) = self.reference.as_mut() {
                     r.copy_tiles_from(vsm, &region);
                 }
+                self.floating = Arc::new(unringed(current, &mesh));
                 self.mesh = Some(mesh.clone());
                 self.last_vsm = Some(vsm.clone());
                 return Meshed {
                     mesh,
                     decision: Decision::Update,
                     region,
+                    floating: self.floating.clone(),
                 };
             }
         };
@@ -215,13 +254,34 @@ impl MeshStage {
             self.inc = Some(inc);
             self.mesh = Some(Arc::new(mesh));
             self.reference = Some((**vsm).clone());
+            self.floating = Arc::default();
         }
         Meshed {
             mesh: self.mesh.clone().expect("built"),
             decision,
             region: TileMask::new(size, self.reuse.tile_px),
+            floating: self.floating.clone(),
         }
     }
+}
+
+/// The marks of `current` that no mark of `mesh` rings: a mark whose box lies inside the ring
+/// of one of the mesh's marks, centred within a pixel and a half of it, is still carried by
+/// that ring's fan (the fan covers the whole ring).
+fn unringed(current: Vec<Mark>, mesh: &Mesh) -> Vec<Mark> {
+    current
+        .into_iter()
+        .filter(|c| {
+            !mesh.marks().iter().any(|m| {
+                let [x0, y0, x1, y1] = c.bbox.map(|v| v as f64);
+                let r2 = m.ring_radius * m.ring_radius;
+                m.center.distance(c.center) <= 1.5
+                    && [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
+                        .iter()
+                        .all(|&(x, y)| DVec2::new(x, y).distance_squared(m.center) <= r2)
+            })
+        })
+        .collect()
 }
 
 /// Stage 3: the solve, skipped on reuse, local on update.
@@ -419,11 +479,15 @@ impl<'a> WarpLocator<'a> {
     }
 }
 
-/// Stage 4: the render, only of what changed when the previous frame's output can be kept.
+/// Stage 4: the render, only of what changed when the previous frame's output can be kept,
+/// with the frame's floating marks drawn over it.
 #[derive(Default)]
 pub(crate) struct RenderStage {
     renderer: Renderer,
     prev: Option<Previous>,
+    /// The source with floating marks painted out, and the mask buffer that paints them.
+    painted: Option<Image>,
+    scratch: Vec<bool>,
 }
 
 struct Previous {
@@ -431,51 +495,108 @@ struct Previous {
     warp: Arc<Warp>,
     image: Image,
     opaque: bool,
+    floating: Floating,
 }
 
 impl RenderStage {
     pub fn run(
         &mut self,
         src: &Image,
-        mesh: &Arc<Mesh>,
+        vsm: &Vsm,
+        m: &Meshed,
         warp: &Arc<Warp>,
-        dirty: &TileMask,
         decision: Decision,
+        dirty: &TileMask,
     ) -> Image {
+        let mesh = &m.mesh;
         let opaque = src.is_opaque();
         let target = warp.target();
+        let floating = if m.floating.is_empty() {
+            Floating::default()
+        } else {
+            let locator = WarpLocator::new(mesh, warp);
+            Floating::new(src, vsm, &m.floating, warp.target(), |c| locator.map(c))
+        };
+        // The warp reads the source with the floating marks painted out.
+        let warped: &Image = if floating.is_empty() {
+            src
+        } else {
+            let painted = match &mut self.painted {
+                Some(p) if p.size() == src.size() => {
+                    p.pixels_mut().copy_from_slice(src.pixels());
+                    p
+                }
+                p => p.insert(src.clone()),
+            };
+            floating.paint_out(painted, &mut self.scratch);
+            painted
+        };
         let usable = self.prev.as_ref().filter(|p| {
             decision != Decision::Rebuild
                 && p.image.size() == target
                 && p.opaque == opaque
                 && p.mesh.size() == mesh.size()
         });
-        let out = match usable {
+        let mut out = match usable {
             None => {
                 let mut out = Image::new(target);
-                self.renderer.render(src.as_ref(), mesh, warp, &mut out);
+                self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
                 out
             }
             Some(p)
                 if Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty() =>
             {
-                p.image.clone()
+                // Same pixels, mesh and warp: the same floating marks, already drawn.
+                self.prev.as_ref().expect("usable").image.clone()
             }
             Some(p) => {
                 let kept = unchanged_triangles(&p.mesh, &p.warp, mesh, warp);
+                // Source pixels under floating marks (then and now) were painted out
+                // differently; output pixels they were and are drawn on must be redrawn.
+                let mut dirty = dirty.clone();
+                let (mut src_rects, mut out_rects) = (Vec::new(), Vec::new());
+                for f in [&p.floating, &floating] {
+                    src_rects.extend(f.source_rects());
+                    out_rects.extend(f.output_rects());
+                }
+                let t = dirty.tile_px() as f64;
+                for [x0, y0, x1, y1] in src_rects {
+                    let (c0, r0) = ((x0 / t) as u32, (y0 / t) as u32);
+                    let (c1, r1) = ((x1 / t).ceil() as u32, (y1 / t).ceil() as u32);
+                    for r in r0..r1 {
+                        for c in c0..c1 {
+                            dirty.set(c, r);
+                        }
+                    }
+                }
+                let q = warp.positions();
+                let tris = mesh.triangles();
+                let drawn_over = |t: usize| {
+                    let v = tris[t].map(|i| q[i as usize]);
+                    let lo = v[0].min(v[1]).min(v[2]);
+                    let hi = v[0].max(v[1]).max(v[2]);
+                    out_rects.iter().any(|r| {
+                        lo.x < r[2] + 1.0
+                            && hi.x > r[0] - 1.0
+                            && lo.y < r[3] + 1.0
+                            && hi.y > r[1] - 1.0
+                    })
+                };
                 let mut out = p.image.clone();
                 self.renderer
-                    .render_partial(src.as_ref(), mesh, warp, &mut out, &|t, r| {
-                        kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3])
+                    .render_partial(warped.as_ref(), mesh, warp, &mut out, &|t, r| {
+                        kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3]) && !drawn_over(t)
                     });
                 out
             }
         };
+        floating.paste(src, &mut out);
         self.prev = Some(Previous {
             mesh: mesh.clone(),
             warp: warp.clone(),
             image: out.clone(),
             opaque,
+            floating,
         });
         out
     }
