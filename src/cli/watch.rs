@@ -31,6 +31,7 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         existing: true,
         cancel: cancel.clone(),
         on_warning: Box::new(|e| eprintln!("vizretarget: warning: {e}")),
+        limits: vizretarget::Limits::default(),
     };
     let mut input = open_watch(&args.dir, watch_options).map_err(library_error)?;
     let names = input.names.clone();
