@@ -12,19 +12,20 @@
 //! 65535x65535), and for a file the number of frames, by walking its blocks first.
 
 use crate::error::Error;
-use crate::image::{Image, Size};
-use crate::limits::Limits;
+use crate::image::{Image, Size, MAX_SIDE};
+use crate::limits::{human_bytes, Limits};
 use crate::retargeter::Frame;
 use crate::stream::{FrameSource, Repeat};
 use gif::{ColorOutput, DecodeOptions, DisposalMethod, MemoryLimit};
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
-/// Most bytes the decoder may allocate for one frame when no limit says otherwise: 512 MiB.
+/// Most bytes the `gif` decoder may allocate for what it keeps itself (an ICC profile, XMP)
+/// when no limit says otherwise: 512 MiB.
 const MEMORY_LIMIT: u64 = 512 << 20;
 
-/// What the `gif` decoder may allocate for one frame (RGBA): four bytes per allowed pixel,
-/// within the memory budget.
+/// What the `gif` decoder may allocate itself (RGBA): four bytes per allowed pixel, within
+/// the memory budget. Frame pixels go into our own buffer, checked by [`check_frame_rect`].
 fn memory_limit(limits: &Limits) -> MemoryLimit {
     let by_pixels = limits
         .max_pixels
@@ -33,6 +34,38 @@ fn memory_limit(limits: &Limits) -> MemoryLimit {
     match bytes.try_into() {
         Ok(limit) => MemoryLimit::Bytes(limit),
         Err(_) => MemoryLimit::Unlimited,
+    }
+}
+
+/// Checks a frame's rectangle before its RGBA buffer is allocated. The rectangle is not
+/// bounded by the canvas (16 bits a side: a 20-byte frame may declare 65535x65535, 16 GiB),
+/// so it is held to [`Limits::max_pixels`], to the largest canvas when that is off, and to
+/// the memory budget.
+fn check_frame_rect(limits: &Limits, name: &Path, index: u64, w: u16, h: u16) -> Result<(), Error> {
+    let (w, h) = (w as u64, h as u64);
+    let what = format!("frame {index}");
+    limits.check_pixels(name, &what, w, h)?;
+    let largest = (MAX_SIDE as u64).pow(2);
+    if w * h > largest {
+        return Err(Error::decode(
+            name,
+            format!(
+                "corrupt GIF: {what} declares {w}x{h} px, more than the largest canvas \
+                 ({MAX_SIDE}x{MAX_SIDE})"
+            ),
+        ));
+    }
+    match limits.memory_budget {
+        Some(budget) if w * h * 4 > budget => Err(Error::LimitExceeded {
+            path: name.to_path_buf(),
+            limit: crate::Limit::Memory,
+            message: format!(
+                "{what} declares {w}x{h} px, {} to decode, above the memory limit of {}",
+                human_bytes(w * h * 4),
+                human_bytes(budget)
+            ),
+        }),
+        _ => Ok(()),
     }
 }
 
@@ -198,11 +231,7 @@ impl<R: Read + Send> FrameSource for GifSource<R> {
         if let Err(e) = self.limits.check_frame_index(&self.name, index) {
             return fail(self, e);
         }
-        let what = format!("frame {index}");
-        if let Err(e) = self
-            .limits
-            .check_pixels(&self.name, &what, fw as u64, fh as u64)
-        {
+        if let Err(e) = check_frame_rect(&self.limits, &self.name, index, fw, fh) {
             return fail(self, e);
         }
         let (fw, fh) = (fw as usize, fh as usize);
@@ -400,5 +429,66 @@ mod tests {
         let e = src.next_frame().unwrap_err().to_string();
         assert!(e.contains("anim.gif") && e.contains("frame 1"), "{e}");
         assert!(src.next_frame().unwrap().is_none());
+    }
+
+    /// A GIF by hand: a `w`x`h` screen with a two-colour table, then `frames` frames each
+    /// declaring the rectangle `fw`x`fh` but holding one pixel of LZW data.
+    fn hostile(w: u16, h: u16, fw: u16, fh: u16, frames: usize) -> Vec<u8> {
+        let mut b = b"GIF89a".to_vec();
+        b.extend(w.to_le_bytes());
+        b.extend(h.to_le_bytes());
+        b.extend([0x80, 0, 0, 0, 0, 0, 255, 255, 255]);
+        for _ in 0..frames {
+            b.push(0x2c);
+            b.extend([0, 0, 0, 0]);
+            b.extend(fw.to_le_bytes());
+            b.extend(fh.to_le_bytes());
+            b.extend([0, 2, 2, 0x44, 0x01, 0]);
+        }
+        b.push(0x3b);
+        b
+    }
+
+    #[test]
+    fn a_huge_frame_rectangle_is_refused_before_its_buffer() {
+        // The canvas is small; the frame claims 65535x65535 (16 GiB of RGBA).
+        let bytes = hostile(4, 4, 65535, 65535, 1);
+        let mut src = GifSource::new(&bytes[..], "h.gif").unwrap();
+        let e = src.next_frame().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::LimitExceeded {
+                    limit: crate::Limit::Pixels,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // With every limit off, the largest canvas still bounds it.
+        let mut src = GifSource::with_limits(&bytes[..], "h.gif", &Limits::unlimited()).unwrap();
+        let e = src.next_frame().unwrap_err().to_string();
+        assert!(
+            e.contains("65535x65535") && e.contains("largest canvas"),
+            "{e}"
+        );
+        // And a tight memory budget bounds a frame the pixel limit lets through.
+        let bytes = hostile(4, 4, 4000, 4000, 1);
+        let tight = Limits::default().with_memory_budget(Some(32 << 20));
+        let mut src = GifSource::with_limits(&bytes[..], "h.gif", &tight).unwrap();
+        let e = src.next_frame().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::LimitExceeded {
+                    limit: crate::Limit::Memory,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // The hand-built file itself is sound: a frame of its true size decodes.
+        let (_, f) = all(&hostile(4, 4, 1, 1, 3));
+        assert_eq!(f.len(), 3);
     }
 }
