@@ -9,7 +9,7 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 use vizretarget::io::{
     is_std, open_input_with, open_sink, FrameRate, Input, InputFormat, InputKind, SinkFormat,
-    SinkOptions,
+    SinkOptions, STDIN_NAME,
 };
 use vizretarget::stream::{Progress, VecSource};
 use vizretarget::vector::MarkedSource;
@@ -105,12 +105,22 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
             .write_json(path, result.as_ref().ok())
             .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
     }
-    let summary = result
-        .map_err(|e| raw_hint(e, &input))
-        .map_err(library_error)?;
     let interrupted = cancel.load(Ordering::SeqCst);
+    let input_name = if is_std(input_path) {
+        Path::new(STDIN_NAME)
+    } else {
+        input_path
+    };
+    let summary = match result {
+        // An empty input (raw stdin, whose size is given, is only found empty here) makes
+        // the sink refuse to write nothing: the input is what to name.
+        Err(vizretarget::Error::NoFrames(p)) if p != input_path && !interrupted => {
+            bail!("{}: no frames", input_name.display())
+        }
+        r => r.map_err(|e| raw_hint(e, &input)).map_err(library_error)?,
+    };
     if summary.frames == 0 && !interrupted && !summary.output_closed {
-        bail!("{}: no frames", input_path.display());
+        bail!("{}: no frames", input_name.display());
     }
     if !args.quiet && !summary.output_closed {
         eprintln!("{}", summary_line(&summary, from, target));
