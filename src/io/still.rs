@@ -229,8 +229,18 @@ fn describe(name: &str, e: ImageError) -> String {
     }
 }
 
-/// Decoders may quote raw bytes from the file: keep the message on one printable line.
+/// Decoders may quote raw bytes from the file: keep the message on one printable line. The
+/// `png` crate names a chunk by its `Debug` form (`ChunkType { type: IHDR, critical: true,
+/// .. }`): keep its name only.
 fn one_line(s: &str) -> String {
+    let mut s = s.to_string();
+    while let Some(start) = s.find("ChunkType { type: ") {
+        let Some(len) = s[start..].find('}') else {
+            break;
+        };
+        let name: String = s[start + 18..].chars().take(4).collect();
+        s.replace_range(start..start + len + 1, &name);
+    }
     s.chars()
         .map(|c| if c.is_control() { '?' } else { c })
         .collect()
