@@ -68,13 +68,17 @@ impl Default for Limits {
 
 impl Limits {
     /// 40 megapixels: 8K UHD (7680x4320, 33.2 MP) fits, and so do tall dashboards of the
-    /// same area; a still this size needs about 1.6 GB.
+    /// same area; a still this size peaked at 1.7 to 2.0 GB (7680x5200 to widths 1920 to
+    /// 7680).
     pub const DEFAULT_MAX_PIXELS: u64 = 40_000_000;
     /// 100 000 frames: over an hour of 25 fps video, hours of any real GIF; a million-frame
     /// GIF (a few MB of one-pixel frames) is refused before decoding.
     pub const DEFAULT_MAX_FRAMES: u64 = 100_000;
-    /// 2 GiB: a still up to about 50 MP, a stream up to about 24 MP a frame (6000x4000).
-    pub const DEFAULT_MEMORY_BUDGET: u64 = 2 << 30;
+    /// 2.5 GiB: every still within [`Limits::DEFAULT_MAX_PIXELS`] fits at any target up to
+    /// its own size (estimated 2.35 GB at 40 MP), so the pixel limit is the one ordinary
+    /// jobs meet; larger targets, `compare` and streams of more than about 24 MP a frame
+    /// (6000x4000; above about 15 MP with fewer frames in flight) meet this one.
+    pub const DEFAULT_MEMORY_BUDGET: u64 = 5 << 29;
 
     /// No bounds but [`MAX_SIDE`].
     pub fn unlimited() -> Limits {
@@ -328,8 +332,9 @@ const BASE_BYTES: u64 = 24 << 20;
 /// A still job at its peak, per input pixel: the decoded RGBA (4 B), the decoder's own buffer
 /// while converting (up to 4 B), the saliency map's Lab planes and filters (about 20 B at full
 /// resolution), structure detection's luma and transposed copies, the renderer's mip levels
-/// (about 5 B). Measured: 38-39 B per input pixel from 1 to 33 MP.
-const STILL_PER_IN_PX: u64 = 42;
+/// (about 5 B). Measured: 38-39 B per input pixel from 1 to 33 MP, up to 43 B at 40 MP
+/// (7680x5200 to 3840x5200: 1.97 GB peak); 46 keeps the estimate above what was measured.
+const STILL_PER_IN_PX: u64 = 46;
 /// Per output pixel: the output picture and its encoded copy.
 const STILL_PER_OUT_PX: u64 = 12;
 
@@ -500,6 +505,23 @@ mod tests {
             .unwrap();
         assert!(plan.admit(1, size(100, 100)).is_ok());
         assert!(plan.admit(2, f).is_err());
+    }
+
+    #[test]
+    fn the_defaults_agree_and_estimates_stay_above_measured_peaks() {
+        // A still the default pixel limit admits fits the default budget at its own size
+        // (8000x5000 is 40 MP exactly), so the pixel limit is the one ordinary jobs meet.
+        let l = Limits::default();
+        let p = Path::new("a.png");
+        let full = size(8000, 5000);
+        assert!(l.check_size(p, "PNG", 8000, 5000).is_ok());
+        assert!(l.check_still(p, full, full).is_ok());
+        // Peak RSS measured (/usr/bin/time -v, release build) for 7680x5200 to 3840x5200:
+        // 1 921 536 KiB. An estimate below it would let a budget be overrun.
+        assert!(still_bytes(size(7680, 5200), size(3840, 5200)) > 1_921_536 * 1024);
+        // And a stream of six 3000x2000 raw frames to 1500x2000 GIF: 500 680 KiB.
+        let s = stream_bytes(size(3000, 2000), size(1500, 2000), 1, 12);
+        assert!(s > 500_680 * 1024, "{s}");
     }
 
     #[test]

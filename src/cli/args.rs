@@ -50,7 +50,7 @@ Vector marks and enhancement (the paper's 5.3 and 5.4):
 Limits: an input is refused from its header, before any large allocation, when a frame has more
 than --max-pixels pixels (default 40000000), a file or folder more than --max-frames frames
 (default 100000; stdin has no frame limit unless given), or the run would need more than
---memory-limit (default 2G). The message names the option that raises the limit; 0 lifts it.
+--memory-limit (default 2.5G). The message names the option that raises the limit; 0 lifts it.
 A stream that fails part way (a corrupt frame, a frame past the limit) keeps the frames before
 it in the output and exits with 1.
 
@@ -210,10 +210,10 @@ pub struct LimitArgs {
     pub max_pixels: Option<u64>,
 
     /// Most memory a run may hold: decoded frames in flight, the method's working memory, the
-    /// output's buffers; e.g. 512M, 2G, or bytes; 0: no limit. Default 2G: a picture up to
-    /// about 50 megapixels, a stream up to about 24 megapixels a frame. A stream that would
-    /// need more runs with fewer frames in flight if that fits, else it is refused before any
-    /// work.
+    /// output's buffers; e.g. 512M, 2G, or bytes; 0: no limit. Default 2.5G: any picture
+    /// within --max-pixels at a size up to its own, a stream up to about 24 megapixels a
+    /// frame. A stream that would need more runs with fewer frames in flight if that fits,
+    /// else it is refused before any work.
     #[arg(long, value_name = "SIZE", value_parser = parse_memory)]
     pub memory_limit: Option<u64>,
 }
