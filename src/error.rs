@@ -55,6 +55,15 @@ pub enum Error {
     #[error("the output was closed by its reader")]
     OutputClosed,
 
+    /// An input went past one of the [`crate::Limits`]: `message` says what it declared or
+    /// needs and the limit; the caller may name the option that raises `limit`.
+    #[error("{}: {message}", path.display())]
+    LimitExceeded {
+        path: PathBuf,
+        limit: crate::Limit,
+        message: String,
+    },
+
     /// The input ended inside a frame: `got` of `expected` bytes of frame `frame_index`.
     #[error("{}: frame {frame_index} is incomplete: {got} of {expected} bytes", path.display())]
     TruncatedFrame {

@@ -29,6 +29,7 @@ pub mod compare;
 pub mod debug;
 pub mod enhance;
 pub mod io;
+pub mod limits;
 pub mod mesh;
 pub mod metrics;
 pub mod render;
@@ -42,6 +43,7 @@ pub use baseline::{retarget_with, Method, MethodOutput};
 pub use enhance::{EnhanceMask, EnhanceRegion, Enhancement};
 pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
+pub use limits::{Limit, Limits, MemoryPlan};
 pub use mesh::{Mesh, MeshOptions};
 pub use render::Renderer;
 pub use retargeter::{

@@ -21,7 +21,8 @@ fn main() -> ExitCode {
         Ok(cli::Outcome::Done) => ExitCode::SUCCESS,
         Ok(cli::Outcome::Interrupted) => ExitCode::from(130),
         Err(e) => {
-            eprintln!("vizretarget: error: {}", chain_line(&e));
+            let hint = cli::limit_hint(&e).map_or_else(String::new, |h| format!("; {h}"));
+            eprintln!("vizretarget: error: {}{hint}", chain_line(&e));
             ExitCode::FAILURE
         }
     }

@@ -48,6 +48,13 @@ Vector marks and enhancement (the paper's 5.3 and 5.4):
   vizretarget frames/ --marks marks.jsonl --enhance 1,1,1.3 --width 400 -o narrow.gif
       A stream with one line of marks per frame; salient content 30 % larger on every frame.
 
+Limits: an input is refused from its header, before any large allocation, when a frame has more
+than --max-pixels pixels (default 40000000), a file or folder more than --max-frames frames
+(default 100000; stdin has no frame limit unless given), or the run would need more than
+--memory-limit (default 2.5G). The message names the option that raises the limit; 0 lifts it.
+A stream that fails part way (a corrupt frame, a frame past the limit) keeps the frames before
+it in the output and exits with 1.
+
 Exit status: 0 done (also when the reader of stdout closes it early); 1 the input could not be
 read or the output not written; 2 usage error; 130 stopped by Ctrl-C (the first Ctrl-C finishes
 the frames in flight and completes the output, a second one quits at once).";
@@ -180,6 +187,74 @@ pub struct Cli {
 
     #[command(flatten)]
     pub vector: VectorArgs,
+
+    #[command(flatten)]
+    pub limits: LimitArgs,
+
+    /// Most frames read from the input; 0: no limit. Default: 100000 for a file or folder (a
+    /// GIF or folder with more is refused before any frame is decoded; other files stop with
+    /// an error at the frame past the limit, after the frames before it); no limit on stdin,
+    /// so a pipe from ffmpeg runs as long as it lasts.
+    #[arg(long, value_name = "N", value_parser = parse_count, help_heading = "Limits")]
+    pub max_frames: Option<u64>,
+}
+
+/// Bounds on what reading an input may cost (`--max-pixels`, `--memory-limit`). Inputs that
+/// go past one are refused from their header, before the big allocations, with a message
+/// naming the option.
+#[derive(clap::Args, Debug, Default, Clone)]
+#[command(next_help_heading = "Limits")]
+pub struct LimitArgs {
+    /// Most pixels in one input frame (width x height), checked from the file's header before
+    /// decoding; 0: no limit but 16384 px a side. Default 40000000: 8K UHD (7680x4320) fits.
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub max_pixels: Option<u64>,
+
+    /// Most memory a run may hold: decoded frames in flight, the method's working memory, the
+    /// output's buffers; e.g. 512M, 2G, or bytes; 0: no limit. Default 2.5G: any picture
+    /// within --max-pixels at a size up to its own, a stream up to about 24 megapixels a
+    /// frame. A stream that would need more runs with fewer frames in flight if that fits,
+    /// else it is refused before any work.
+    #[arg(long, value_name = "SIZE", value_parser = parse_memory)]
+    pub memory_limit: Option<u64>,
+}
+
+impl LimitArgs {
+    /// The library's limits: defaults where no option is given, 0 as no limit, and
+    /// `max_frames` as given (the caller decides its default).
+    pub fn limits(&self, max_frames: Option<u64>) -> vizretarget::Limits {
+        let off = |v: u64| (v != 0).then_some(v);
+        let d = vizretarget::Limits::default();
+        vizretarget::Limits {
+            max_pixels: self.max_pixels.map_or(d.max_pixels, off),
+            max_frames,
+            memory_budget: self.memory_limit.map_or(d.memory_budget, off),
+        }
+    }
+}
+
+impl Cli {
+    /// The limits of a run reading `input` (`-`: stdin, which has no default frame limit).
+    pub fn limits_for(&self, stdin: bool) -> vizretarget::Limits {
+        let frames = match self.max_frames {
+            Some(0) => None,
+            Some(n) => Some(n),
+            None if stdin => None,
+            None => Some(vizretarget::Limits::DEFAULT_MAX_FRAMES),
+        };
+        self.limits.limits(frames)
+    }
+}
+
+fn parse_count(s: &str) -> Result<u64, String> {
+    s.trim()
+        .replace('_', "")
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number (0: no limit)"))
+}
+
+fn parse_memory(s: &str) -> Result<u64, String> {
+    vizretarget::limits::parse_bytes(s)
 }
 
 /// Vector marks (§5.3) and content enhancement (§5.4).
@@ -415,6 +490,9 @@ pub struct CompareArgs {
     /// Print the measures as JSON on stdout instead of a table.
     #[arg(long)]
     pub json: bool,
+
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// `--method` values.
@@ -480,6 +558,9 @@ pub struct WatchArgs {
     /// No line per snapshot on stderr (warnings are still reported).
     #[arg(short, long)]
     pub quiet: bool,
+
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// `--input-format` values.

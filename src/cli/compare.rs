@@ -9,7 +9,9 @@ use std::path::Path;
 use vizretarget::baseline::{Mapping, MethodOutput};
 use vizretarget::compare::{compare, SheetOptions};
 use vizretarget::io::OutputFormat;
-use vizretarget::io::{read_still, resolve_output, write_still, Destination, OutputChoice};
+use vizretarget::io::{
+    probe_still, read_still_with, resolve_output, write_still, Destination, OutputChoice,
+};
 use vizretarget::{debug, retarget_with, Image, Method, Options, Size};
 
 /// Writes the sheet and prints the table (or JSON) on stdout.
@@ -24,8 +26,11 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     check_folder(&args.output)?;
     let options = Options::default().with_alpha(args.alpha);
     options.validate().map_err(library_error)?;
-    let image = read_still(&args.input)?;
-    let target = target_of(args.size, args.width, args.height, image.size())?;
+    let limits = args.limits.limits(None);
+    let from = probe_still(&args.input, &limits)?;
+    let target = target_of(args.size, args.width, args.height, from)?;
+    limits.check_compare(&args.input, from, target)?;
+    let image = read_still_with(&args.input, &limits)?;
     let comparison = compare(&image, target, &options).map_err(library_error)?;
     let sheet = comparison.sheet(
         &image,

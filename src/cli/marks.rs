@@ -7,7 +7,7 @@ use anyhow::{bail, Result};
 use std::path::Path;
 use std::sync::Arc;
 use vizretarget::enhance::{EnhanceMask, Enhancement};
-use vizretarget::io::{list_images, read_still, Input, InputKind};
+use vizretarget::io::{list_images, read_still_with, Input, InputKind};
 use vizretarget::vector::{read_layer, FrameMarks};
 use vizretarget::{MarkSize, Options};
 
@@ -21,10 +21,14 @@ pub fn any(args: &VectorArgs) -> bool {
 }
 
 /// `options` with the enhancement and the way marks are drawn.
-pub fn apply(args: &VectorArgs, mut options: Options) -> Result<Options> {
+pub fn apply(
+    args: &VectorArgs,
+    mut options: Options,
+    limits: &vizretarget::Limits,
+) -> Result<Options> {
     let mask = match &args.enhance_mask {
         Some(path) => {
-            let img = read_still(path)?;
+            let img = read_still_with(path, limits)?;
             Some(Arc::new(
                 EnhanceMask::from_image(&img, args.enhance_mask_factor)
                     .map_err(super::library_error)?,

@@ -80,6 +80,25 @@ fn is_picture_file(input: &Path) -> bool {
     !is_std(input) && !input.is_dir()
 }
 
+/// The option that raises the limit an error went past, to end its line with.
+pub fn limit_hint(e: &anyhow::Error) -> Option<&'static str> {
+    limit_hint_of(e.downcast_ref::<vizretarget::Error>()?)
+}
+
+/// [`limit_hint`] of a library error.
+pub fn limit_hint_of(e: &vizretarget::Error) -> Option<&'static str> {
+    use vizretarget::Limit;
+    match e {
+        vizretarget::Error::LimitExceeded { limit, .. } => Some(match limit {
+            Limit::Pixels => "raise it with --max-pixels N (0: no limit)",
+            Limit::Frames => "raise it with --max-frames N (0: no limit)",
+            Limit::Memory => "raise it with --memory-limit SIZE, e.g. 4G (0: no limit)",
+            _ => return None,
+        }),
+        _ => None,
+    }
+}
+
 /// The library's error as the command line reports it: option problems without the
 /// "invalid option" prefix.
 pub(crate) fn library_error(e: vizretarget::Error) -> anyhow::Error {

@@ -4,7 +4,7 @@ use super::args::MethodArg;
 use super::Cli;
 use anyhow::{bail, Context, Result};
 use std::path::Path;
-use vizretarget::io::{read_still, write_still, OutputFormat};
+use vizretarget::io::{probe_still, read_still_with, write_still, OutputFormat};
 use vizretarget::{debug, retarget, Options, Retargeted, Size};
 
 /// Runs the still-image job: one picture in, one out, exactly as before streams existed.
@@ -21,10 +21,11 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
             out_dir.display()
         );
     }
+    let limits = cli.limits_for(false);
     let mut options = Options::default()
         .with_alpha(cli.alpha)
         .with_analysis(cli.debug_dir.is_some());
-    options = super::marks::apply(&cli.vector, options)?;
+    options = super::marks::apply(&cli.vector, options, &limits)?;
     if let Some(layer) = super::marks::still_layer(&cli.vector)? {
         options = options.with_marks(layer);
     }
@@ -32,12 +33,15 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
     if cli.size.is_none() && cli.width.is_none() && cli.height.is_none() && !cli.same_size {
         bail!("no target size: give --size WxH, or --width N and/or --height N");
     }
-    let image = read_still(input)?;
+    // The header first: the job's memory is checked before the picture is decoded.
+    let from = probe_still(input, &limits)?;
     let (w, h) = match (cli.size, cli.width, cli.height) {
         (Some(s), _, _) => s,
-        (None, w, h) => (w.unwrap_or(image.width()), h.unwrap_or(image.height())),
+        (None, w, h) => (w.unwrap_or(from.width), h.unwrap_or(from.height)),
     };
     let target = Size::new(w, h)?;
+    limits.check_still(input, from, target)?;
+    let image = read_still_with(input, &limits)?;
     if cli.method != MethodArg::Mesh {
         return super::compare::still_with(cli, input, output, format, &image, target, &options);
     }

@@ -8,7 +8,8 @@ use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::atomic::Ordering;
 use vizretarget::io::{
-    is_std, open_input, open_sink, FrameRate, InputFormat, SinkFormat, SinkOptions,
+    is_std, open_input_with, open_sink, FrameRate, Input, InputFormat, InputKind, SinkFormat,
+    SinkOptions, STDIN_NAME,
 };
 use vizretarget::stream::{Progress, VecSource};
 use vizretarget::vector::MarkedSource;
@@ -26,7 +27,12 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     if cli.debug_dir.is_some() {
         bail!("--debug-dir is for one picture; for a stream, retarget single frames with it");
     }
-    let mut options = super::marks::apply(&cli.vector, Options::default().with_alpha(cli.alpha))?;
+    let limits = cli.limits_for(is_std(input_path));
+    let mut options = super::marks::apply(
+        &cli.vector,
+        Options::default().with_alpha(cli.alpha),
+        &limits,
+    )?;
     options.reuse = args.reuse();
     options.validate().map_err(library_error)?;
     if format == SinkFormat::PngSeq && !is_std(input_path) && same_folder(input_path, output) {
@@ -44,15 +50,15 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         InputArg::Y4m => InputFormat::Y4m,
         InputArg::Png => InputFormat::PngStream,
     };
-    let mut input = open_input(input_path, input_format, input_size).map_err(library_error)?;
+    let mut input =
+        open_input_with(input_path, input_format, input_size, &limits).map_err(library_error)?;
     if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {
         let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
         input.source = Box::new(MarkedSource::new(frames, marks));
     }
-    let from = match (cli.size, cli.width, cli.height) {
-        (Some(_), _, _) | (None, Some(_), Some(_)) => input.known_size(),
-        _ => input.frame_size()?,
-    };
+    // The first frame's size (from the header, else by reading that frame): the target may
+    // depend on it, and the memory plan does.
+    let from = input.frame_size().map_err(|e| raw_hint(e, &input))?;
     let target = match (cli.size, cli.width, cli.height, from) {
         (Some((w, h)), _, _, _) => Size::new(w, h)?,
         (None, Some(w), Some(h), _) => Size::new(w, h)?,
@@ -68,6 +74,10 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         repeat: input.source.repeat(),
         names: input.names.clone(),
     };
+    let plan = match from {
+        Some(f) => limits.plan_stream(input_path, f, target, format.held_bytes_per_pixel())?,
+        None => bail!("{}: no frames", input_path.display()),
+    };
     let mut sink = open_sink(output, format, sink_options)?;
     let cancel = interrupt::cancel_flag()?;
     let reporter = Reporter::new(
@@ -81,7 +91,8 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         input.names.clone(),
         args.stats_json.is_some(),
     );
-    let result = Pipeline::run(
+    let result = Pipeline::run_planned(
+        &plan,
         target,
         &options,
         &mut *input.source,
@@ -95,10 +106,22 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
             .write_json(path, result.as_ref().ok())
             .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
     }
-    let summary = result.map_err(library_error)?;
     let interrupted = cancel.load(Ordering::SeqCst);
+    let input_name = if is_std(input_path) {
+        Path::new(STDIN_NAME)
+    } else {
+        input_path
+    };
+    let summary = match result {
+        // An empty input (raw stdin, whose size is given, is only found empty here) makes
+        // the sink refuse to write nothing: the input is what to name.
+        Err(vizretarget::Error::NoFrames(p)) if p != input_path && !interrupted => {
+            bail!("{}: no frames", input_name.display())
+        }
+        r => r.map_err(|e| raw_hint(e, &input)).map_err(library_error)?,
+    };
     if summary.frames == 0 && !interrupted && !summary.output_closed {
-        bail!("{}: no frames", input_path.display());
+        bail!("{}: no frames", input_name.display());
     }
     if !args.quiet && !summary.output_closed {
         eprintln!("{}", summary_line(&summary, from, target));
@@ -108,6 +131,32 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     } else {
         Outcome::Done
     })
+}
+
+/// A raw frame cut short usually means a wrong `--input-size` or `--input-format`: say so.
+fn raw_hint(e: vizretarget::Error, input: &Input) -> vizretarget::Error {
+    match (e, input.kind) {
+        (
+            vizretarget::Error::TruncatedFrame {
+                path,
+                frame_index,
+                expected,
+                got,
+            },
+            InputKind::Raw(f),
+        ) => vizretarget::Error::Decode {
+            path,
+            message: format!(
+                "frame {frame_index} is incomplete: {got} of {expected} bytes ({} {} frames \
+                 are {expected} bytes each: check --input-size and --input-format)",
+                input
+                    .known_size()
+                    .map_or_else(String::new, |s| s.to_string()),
+                f.name()
+            ),
+        },
+        (e, _) => e,
+    }
 }
 
 /// Fails before the work if the output cannot be written where asked.

@@ -7,9 +7,9 @@ use super::{interrupt, library_error, Outcome};
 use anyhow::{bail, Context, Result};
 use std::sync::atomic::Ordering;
 use std::time::Duration;
-use vizretarget::io::{open_watch, PngSeqSink, WatchOptions};
+use vizretarget::io::{open_watch, PngSeqSink, SinkFormat, WatchOptions};
 use vizretarget::stream::Progress;
-use vizretarget::{Options, Pipeline, Size};
+use vizretarget::{MemoryPlan, Options, Pipeline, Size};
 
 pub fn run(args: &WatchArgs) -> Result<Outcome> {
     let options = Options::default().with_alpha(args.alpha);
@@ -26,11 +26,16 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
     }
     let sink = PngSeqSink::create(&args.output, None);
     let cancel = interrupt::cancel_flag()?;
+    let limits = args.limits.limits(None);
     let watch_options = WatchOptions {
         settle: Duration::from_millis(args.settle_ms),
         existing: true,
         cancel: cancel.clone(),
-        on_warning: Box::new(|e| eprintln!("vizretarget: warning: {e}")),
+        on_warning: Box::new(|e| match super::limit_hint_of(e) {
+            Some(hint) => eprintln!("vizretarget: warning: {e}; {hint}"),
+            None => eprintln!("vizretarget: warning: {e}"),
+        }),
+        limits: limits.clone(),
     };
     let mut input = open_watch(&args.dir, watch_options).map_err(library_error)?;
     let names = input.names.clone();
@@ -38,16 +43,24 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         Ok(_) => PngSeqSink::create(&args.output, names.clone())?,
         Err(e) => return Err(library_error(e)),
     };
-    let from = match (args.size, args.width, args.height) {
-        (Some(_), _, _) | (None, Some(_), Some(_)) => input.known_size(),
-        _ => input.frame_size()?,
-    };
+    // The first snapshot (waited for): the target may depend on its size, the memory plan
+    // does. A later, larger snapshot that would not fit the plan stops watching with an error.
+    let from = input.frame_size()?;
     let target = match (args.size, args.width, args.height, from) {
         (Some((w, h)), _, _, _) => Size::new(w, h)?,
         (None, Some(w), Some(h), _) => Size::new(w, h)?,
         (None, w, h, Some(f)) => Size::new(w.unwrap_or(f.width), h.unwrap_or(f.height))?,
         // Stopped before the first snapshot arrived.
         (None, _, _, None) => return Ok(Outcome::Interrupted),
+    };
+    let plan = match from {
+        Some(f) => limits.plan_stream(
+            &args.dir,
+            f,
+            target,
+            SinkFormat::PngSeq.held_bytes_per_pixel(),
+        )?,
+        None => MemoryPlan::unbounded(target, target),
     };
     let reporter = Reporter::new(
         None,
@@ -60,7 +73,8 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         names,
         args.stats_json.is_some(),
     );
-    let result = Pipeline::run(
+    let result = Pipeline::run_planned(
+        &plan,
         target,
         &options,
         &mut *input.source,

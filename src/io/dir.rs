@@ -9,9 +9,10 @@
 use super::names::FrameNames;
 use super::natural::natural_cmp;
 use super::sniff::{head_of, sniff, Magic};
-use super::still::read_still;
+use super::still::read_still_with;
 use crate::error::Error;
 use crate::image::Size;
+use crate::limits::Limits;
 use crate::retargeter::Frame;
 use crate::stream::FrameSource;
 use std::path::{Path, PathBuf};
@@ -22,6 +23,7 @@ pub struct DirSource {
     next: usize,
     size: Option<(Size, PathBuf)>,
     names: FrameNames,
+    limits: Limits,
 }
 
 /// The image files of `dir` (by content), hidden ones skipped, in natural order.
@@ -51,17 +53,27 @@ pub fn list_images(dir: &Path) -> Result<Vec<PathBuf>, Error> {
 }
 
 impl DirSource {
-    /// Lists the image files of `dir`; [`Error::NoFrames`] if there are none.
+    /// Lists the image files of `dir` within the default [`Limits`]; see
+    /// [`DirSource::open_with`].
     pub fn open(dir: &Path) -> Result<Self, Error> {
+        DirSource::open_with(dir, &Limits::default())
+    }
+
+    /// Lists the image files of `dir`; [`Error::NoFrames`] if there are none, and a folder of
+    /// more than [`Limits::max_frames`] is refused before any is decoded. Each file is checked
+    /// against `limits` from its header.
+    pub fn open_with(dir: &Path, limits: &Limits) -> Result<Self, Error> {
         let files = list_images(dir)?;
         if files.is_empty() {
             return Err(Error::NoFrames(dir.to_path_buf()));
         }
+        limits.check_frame_count(dir, files.len() as u64, false)?;
         Ok(DirSource {
             files,
             next: 0,
             size: None,
             names: FrameNames::new(),
+            limits: limits.clone(),
         })
     }
 
@@ -83,7 +95,7 @@ impl FrameSource for DirSource {
         };
         let index = self.next as u64;
         self.next += 1;
-        let image = read_still(&path).map_err(|e| match e {
+        let image = read_still_with(&path, &self.limits).map_err(|e| match e {
             Error::Io { path, source } if source.kind() == std::io::ErrorKind::NotFound => {
                 Error::decode(
                     path,

@@ -6,17 +6,68 @@
 //! browsers do; the background colour index is ignored, as they ignore it), `Previous`
 //! restores what was there before the frame was drawn. Delays (in 10 ms units) become
 //! [`Frame::duration_ms`]; the NETSCAPE loop count becomes [`FrameSource::repeat`].
+//!
+//! [`Limits`] are checked before allocating: the logical screen when the header is read, each
+//! frame's rectangle before its pixels are decompressed (a 20-byte frame may declare
+//! 65535x65535), and for a file the number of frames, by walking its blocks first.
 
 use crate::error::Error;
 use crate::image::{Image, Size, MAX_SIDE};
+use crate::limits::{human_bytes, Limits};
 use crate::retargeter::Frame;
 use crate::stream::{FrameSource, Repeat};
 use gif::{ColorOutput, DecodeOptions, DisposalMethod, MemoryLimit};
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
-/// Most bytes the decoder may allocate for one frame: 512 MiB, as for stills.
+/// Most bytes the `gif` decoder may allocate for what it keeps itself (an ICC profile, XMP)
+/// when no limit says otherwise: 512 MiB.
 const MEMORY_LIMIT: u64 = 512 << 20;
+
+/// What the `gif` decoder may allocate itself (RGBA): four bytes per allowed pixel, within
+/// the memory budget. Frame pixels go into our own buffer, checked by [`check_frame_rect`].
+fn memory_limit(limits: &Limits) -> MemoryLimit {
+    let by_pixels = limits
+        .max_pixels
+        .map_or(MEMORY_LIMIT, |p| p.saturating_mul(4));
+    let bytes = limits.memory_budget.map_or(by_pixels, |b| b.min(by_pixels));
+    match bytes.try_into() {
+        Ok(limit) => MemoryLimit::Bytes(limit),
+        Err(_) => MemoryLimit::Unlimited,
+    }
+}
+
+/// Checks a frame's rectangle before its RGBA buffer is allocated. The rectangle is not
+/// bounded by the canvas (16 bits a side: a 20-byte frame may declare 65535x65535, 16 GiB),
+/// so it is held to [`Limits::max_pixels`], to the largest canvas when that is off, and to
+/// the memory budget.
+fn check_frame_rect(limits: &Limits, name: &Path, index: u64, w: u16, h: u16) -> Result<(), Error> {
+    let (w, h) = (w as u64, h as u64);
+    let what = format!("frame {index}");
+    limits.check_pixels(name, &what, w, h)?;
+    let largest = (MAX_SIDE as u64).pow(2);
+    if w * h > largest {
+        return Err(Error::decode(
+            name,
+            format!(
+                "corrupt GIF: {what} declares {w}x{h} px, more than the largest canvas \
+                 ({MAX_SIDE}x{MAX_SIDE})"
+            ),
+        ));
+    }
+    match limits.memory_budget {
+        Some(budget) if w * h * 4 > budget => Err(Error::LimitExceeded {
+            path: name.to_path_buf(),
+            limit: crate::Limit::Memory,
+            message: format!(
+                "{what} declares {w}x{h} px, {} to decode, above the memory limit of {}",
+                human_bytes(w * h * 4),
+                human_bytes(budget)
+            ),
+        }),
+        _ => Ok(()),
+    }
+}
 
 /// A rectangle on the canvas, clipped to it.
 #[derive(Copy, Clone, Debug)]
@@ -40,22 +91,38 @@ pub struct GifSource<R: Read> {
     total: Option<u64>,
     repeat: Repeat,
     ended: bool,
+    limits: Limits,
+    /// The current frame's pixels, reused.
+    buffer: Vec<u8>,
 }
 
 impl GifSource<std::fs::File> {
-    /// Opens a GIF file. Its frames are counted first by walking the file's blocks without
-    /// decompressing them, so [`FrameSource::len_hint`] is known.
+    /// Opens a GIF file within the default [`Limits`]; see [`GifSource::open_with`].
     pub fn open(path: &Path) -> Result<Self, Error> {
+        GifSource::open_with(path, &Limits::default())
+    }
+
+    /// Opens a GIF file. Its frames are counted first by walking the file's blocks without
+    /// decompressing them, so [`FrameSource::len_hint`] is known and a file with more than
+    /// [`Limits::max_frames`] is refused before any frame is decoded.
+    pub fn open_with(path: &Path, limits: &Limits) -> Result<Self, Error> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let mut source = GifSource::new(file, path)?;
-        source.total = count_frames(path);
+        let mut source = GifSource::with_limits(file, path, limits)?;
+        source.total = match count_frames(path, limits.max_frames) {
+            Some((n, more)) => {
+                limits.check_frame_count(path, n, more)?;
+                Some(n)
+            }
+            None => None,
+        };
         Ok(source)
     }
 }
 
-/// Counts frames without decoding them; `None` if the file cannot be walked to its end (the
-/// decoding pass then reports what is wrong, at the frame where it is).
-fn count_frames(path: &Path) -> Option<u64> {
+/// Counts frames without decoding them, stopping past `max`: the count and whether more
+/// follow. `None` if the file cannot be walked to its end (the decoding pass then reports what
+/// is wrong, at the frame where it is).
+fn count_frames(path: &Path, max: Option<u64>) -> Option<(u64, bool)> {
     let file = std::fs::File::open(path).ok()?;
     let mut options = DecodeOptions::new();
     options.skip_frame_decoding(true);
@@ -63,30 +130,34 @@ fn count_frames(path: &Path) -> Option<u64> {
     let mut d = options.read_info(BufReader::new(file)).ok()?;
     let mut n = 0;
     while d.read_next_frame().ok()?.is_some() {
+        if max.is_some_and(|m| n >= m) {
+            return Some((n, true));
+        }
         n += 1;
     }
-    Some(n)
+    Some((n, false))
 }
 
 impl<R: Read + Send> GifSource<R> {
-    /// Reads the GIF header from `reader`; `name` names it in errors.
+    /// Reads the GIF header from `reader` within the default [`Limits`]; `name` names it in
+    /// errors.
     pub fn new(reader: R, name: impl AsRef<Path>) -> Result<Self, Error> {
+        GifSource::with_limits(reader, name, &Limits::default())
+    }
+
+    /// Reads the GIF header from `reader`; `name` names it in errors. The logical screen is
+    /// checked against `limits` before the canvas is allocated; frames are counted as they
+    /// are read.
+    pub fn with_limits(reader: R, name: impl AsRef<Path>, limits: &Limits) -> Result<Self, Error> {
         let name = name.as_ref().to_path_buf();
         let mut options = DecodeOptions::new();
         options.set_color_output(ColorOutput::RGBA);
-        if let Ok(limit) = MEMORY_LIMIT.try_into() {
-            options.set_memory_limit(MemoryLimit::Bytes(limit));
-        }
+        options.set_memory_limit(memory_limit(limits));
         let decoder = options
             .read_info(BufReader::new(reader))
             .map_err(|e| describe(&name, None, e))?;
-        let (w, h) = (decoder.width() as u32, decoder.height() as u32);
-        let size = Size::new(w, h).map_err(|_| {
-            Error::decode(
-                &name,
-                format!("GIF declares {w}x{h} px: out of range, each side must be 1 to {MAX_SIDE}"),
-            )
-        })?;
+        let (w, h) = (decoder.width() as u64, decoder.height() as u64);
+        let size = limits.check_size(&name, "GIF", w, h)?;
         let repeat = match decoder.repeat() {
             gif::Repeat::Infinite => Repeat::Infinite,
             gif::Repeat::Finite(n) => Repeat::Times(n),
@@ -101,6 +172,8 @@ impl<R: Read + Send> GifSource<R> {
             total: None,
             repeat,
             ended: false,
+            limits: limits.clone(),
+            buffer: Vec::new(),
         })
     }
 
@@ -139,8 +212,13 @@ impl<R: Read + Send> FrameSource for GifSource<R> {
             _ => {}
         }
         let index = self.next_index;
-        let frame = match self.decoder.read_next_frame() {
-            Ok(Some(f)) => f,
+        let fail = |s: &mut Self, e: Error| {
+            s.ended = true;
+            Err(e)
+        };
+        // The frame's header first: its rectangle is checked before its pixels are read.
+        let (left, top, fw, fh, delay, dispose) = match self.decoder.next_frame_info() {
+            Ok(Some(f)) => (f.left, f.top, f.width, f.height, f.delay, f.dispose),
             Ok(None) => {
                 self.ended = true;
                 if index == 0 {
@@ -148,30 +226,29 @@ impl<R: Read + Send> FrameSource for GifSource<R> {
                 }
                 return Ok(None);
             }
-            Err(e) => {
-                self.ended = true;
-                return Err(describe(&self.name, Some(index), e));
-            }
+            Err(e) => return fail(self, describe(&self.name, Some(index), e)),
         };
+        if let Err(e) = self.limits.check_frame_index(&self.name, index) {
+            return fail(self, e);
+        }
+        if let Err(e) = check_frame_rect(&self.limits, &self.name, index, fw, fh) {
+            return fail(self, e);
+        }
+        let (fw, fh) = (fw as usize, fh as usize);
+        let mut buffer = std::mem::take(&mut self.buffer);
+        buffer.clear();
+        buffer.resize(fw * fh * 4, 0);
+        if let Err(e) = self.decoder.read_into_buffer(&mut buffer) {
+            return fail(self, describe(&self.name, Some(index), e));
+        }
         let (sw, sh) = (self.size.width as usize, self.size.height as usize);
-        let (fx, fy) = (frame.left as usize, frame.top as usize);
-        let (fw, fh) = (frame.width as usize, frame.height as usize);
+        let (fx, fy) = (left as usize, top as usize);
         let rect = Rect {
             x: fx.min(sw),
             y: fy.min(sh),
             w: (fx + fw).min(sw).saturating_sub(fx),
             h: (fy + fh).min(sh).saturating_sub(fy),
         };
-        let delay = frame.delay;
-        let dispose = frame.dispose;
-        let buffer: Vec<u8> = frame.buffer.to_vec();
-        if buffer.len() < fw * fh * 4 {
-            self.ended = true;
-            return Err(Error::decode(
-                &self.name,
-                format!("corrupt GIF: frame {index} has too few pixels"),
-            ));
-        }
         let saved = if dispose == DisposalMethod::Previous {
             self.rows(rect).flat_map(|r| r.to_vec()).collect()
         } else {
@@ -187,6 +264,7 @@ impl<R: Read + Send> FrameSource for GifSource<R> {
                 }
             }
         }
+        self.buffer = buffer;
         self.dispose = Some((dispose, rect, saved));
         let image = Image::from_pixels(self.size, self.canvas.clone()).ok_or(Error::Aborted)?;
         let mut out = Frame::new(image, index);
@@ -217,7 +295,8 @@ fn describe(name: &Path, frame: Option<u64>, e: gif::DecodingError) -> Error {
         }
         other => other.to_string(),
     };
-    if text.contains("end of file") || text.contains("unexpected EOF") {
+    if text.contains("end of file") || text.contains("unexpected EOF") || text.contains("truncated")
+    {
         Error::decode(name, format!("truncated GIF: the file ends early{at}"))
     } else {
         Error::decode(name, format!("corrupt GIF{at}: {text}"))
@@ -350,5 +429,66 @@ mod tests {
         let e = src.next_frame().unwrap_err().to_string();
         assert!(e.contains("anim.gif") && e.contains("frame 1"), "{e}");
         assert!(src.next_frame().unwrap().is_none());
+    }
+
+    /// A GIF by hand: a `w`x`h` screen with a two-colour table, then `frames` frames each
+    /// declaring the rectangle `fw`x`fh` but holding one pixel of LZW data.
+    fn hostile(w: u16, h: u16, fw: u16, fh: u16, frames: usize) -> Vec<u8> {
+        let mut b = b"GIF89a".to_vec();
+        b.extend(w.to_le_bytes());
+        b.extend(h.to_le_bytes());
+        b.extend([0x80, 0, 0, 0, 0, 0, 255, 255, 255]);
+        for _ in 0..frames {
+            b.push(0x2c);
+            b.extend([0, 0, 0, 0]);
+            b.extend(fw.to_le_bytes());
+            b.extend(fh.to_le_bytes());
+            b.extend([0, 2, 2, 0x44, 0x01, 0]);
+        }
+        b.push(0x3b);
+        b
+    }
+
+    #[test]
+    fn a_huge_frame_rectangle_is_refused_before_its_buffer() {
+        // The canvas is small; the frame claims 65535x65535 (16 GiB of RGBA).
+        let bytes = hostile(4, 4, 65535, 65535, 1);
+        let mut src = GifSource::new(&bytes[..], "h.gif").unwrap();
+        let e = src.next_frame().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::LimitExceeded {
+                    limit: crate::Limit::Pixels,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // With every limit off, the largest canvas still bounds it.
+        let mut src = GifSource::with_limits(&bytes[..], "h.gif", &Limits::unlimited()).unwrap();
+        let e = src.next_frame().unwrap_err().to_string();
+        assert!(
+            e.contains("65535x65535") && e.contains("largest canvas"),
+            "{e}"
+        );
+        // And a tight memory budget bounds a frame the pixel limit lets through.
+        let bytes = hostile(4, 4, 4000, 4000, 1);
+        let tight = Limits::default().with_memory_budget(Some(32 << 20));
+        let mut src = GifSource::with_limits(&bytes[..], "h.gif", &tight).unwrap();
+        let e = src.next_frame().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::LimitExceeded {
+                    limit: crate::Limit::Memory,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // The hand-built file itself is sound: a frame of its true size decodes.
+        let (_, f) = all(&hostile(4, 4, 1, 1, 3));
+        assert_eq!(f.len(), 3);
     }
 }

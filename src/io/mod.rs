@@ -42,15 +42,18 @@ pub use natural::natural_cmp;
 #[cfg(feature = "watch")]
 pub use open::open_watch;
 pub use open::{
-    is_std, open_input, open_sink, resolve_output, Destination, Input, InputFormat, InputKind,
-    OutputChoice, SinkFormat, SinkOptions,
+    is_std, open_input, open_input_with, open_sink, resolve_output, Destination, Input,
+    InputFormat, InputKind, OutputChoice, SinkFormat, SinkOptions,
 };
 pub use pipe::{stdin_stream, stdout_stream, STDIN_NAME, STDOUT_NAME};
 pub use png_seq::{output_name, PngSeqSink};
 pub use png_stream::{PngStreamSink, PngStreamSource};
 pub use raw::{RawFormat, RawSink, RawSource};
 pub use sniff::{sniff, Magic};
-pub use still::{decode_still, encode_still, read_still, write_atomic, write_still, OutputFormat};
+pub use still::{
+    decode_still, decode_still_with, encode_still, probe_still, read_still, read_still_with,
+    write_atomic, write_still, OutputFormat,
+};
 #[cfg(feature = "watch")]
 pub use watch::{WatchOptions, WatchSource};
 pub use y4m::{Chroma, FrameRate, Y4mSink, Y4mSource};

@@ -11,10 +11,11 @@ use super::png_seq::PngSeqSink;
 use super::png_stream::{PngStreamSink, PngStreamSource};
 use super::raw::{RawFormat, RawSink, RawSource};
 use super::sniff::{head_of, sniff, Magic, SNIFF_LEN};
-use super::still::{read_still, OutputFormat};
+use super::still::{read_still_with, OutputFormat};
 use super::y4m::{FrameRate, Y4mSink, Y4mSource};
 use crate::error::Error;
 use crate::image::{Image, Size};
+use crate::limits::Limits;
 use crate::retargeter::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource, Repeat};
 use std::io::{Cursor, Read};
@@ -138,11 +139,26 @@ pub fn is_std(path: &Path) -> bool {
     path.as_os_str() == "-"
 }
 
-/// Opens `path` (a file, a folder, or `-` for stdin) as a source of frames. `size` is the
-/// frame size of raw input.
+/// Opens `path` (a file, a folder, or `-` for stdin) as a source of frames within the default
+/// [`Limits`]. `size` is the frame size of raw input.
 pub fn open_input(path: &Path, format: InputFormat, size: Option<Size>) -> Result<Input, Error> {
+    open_input_with(path, format, size, &Limits::default())
+}
+
+/// Opens `path` (a file, a folder, or `-` for stdin) as a source of frames. `size` is the
+/// frame size of raw input. Every source checks frame sizes against `limits` from its header
+/// before decoding, and counts frames against them: a GIF file or a folder before its first
+/// frame, a stream as it is read. A raw file whose length is not a whole number of frames is
+/// refused before any frame (its `size` or format is wrong).
+pub fn open_input_with(
+    path: &Path,
+    format: InputFormat,
+    size: Option<Size>,
+    limits: &Limits,
+) -> Result<Input, Error> {
     if is_std(path) {
-        return open_stream(stdin_stream(), Path::new(STDIN_NAME), format, size, true);
+        let stdin = stdin_stream();
+        return open_stream(stdin, Path::new(STDIN_NAME), format, size, true, limits);
     }
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
@@ -152,7 +168,7 @@ pub fn open_input(path: &Path, format: InputFormat, size: Option<Size>) -> Resul
                 path.display()
             )));
         }
-        let dir = DirSource::open(path)?;
+        let dir = DirSource::open_with(path, limits)?;
         let names = dir.names();
         let mut input = Input::new(Box::new(dir), InputKind::Folder, None);
         input.names = Some(names);
@@ -162,22 +178,45 @@ pub fn open_input(path: &Path, format: InputFormat, size: Option<Size>) -> Resul
         let head = head_of(path).map_err(|e| Error::io(path, e))?;
         match sniff(&head) {
             Some(Magic::Gif) => {
-                let gif = GifSource::open(path)?;
+                let gif = GifSource::open_with(path, limits)?;
                 let size = gif.size();
                 return Ok(Input::new(Box::new(gif), InputKind::Gif, Some(size)));
             }
             Some(Magic::Y4m) => {}
             // PNG, JPEG, WebP, and anything else: the still reader names what is wrong.
             _ => {
-                let image: Image = read_still(path)?;
+                let image: Image = read_still_with(path, limits)?;
                 let size = image.size();
                 let one = OneFrame(Some(Frame::new(image, 0)));
                 return Ok(Input::new(Box::new(one), InputKind::Still, Some(size)));
             }
         }
     }
+    if let (InputFormat::Rgba | InputFormat::Rgb24, Some(size)) = (format, size) {
+        let f = raw_format(format);
+        let frame = (size.area() * f.bytes_per_pixel()) as u64;
+        if meta.is_file() && meta.len() % frame != 0 {
+            return Err(Error::decode(
+                path,
+                format!(
+                    "{} bytes is not a whole number of {size} {} frames ({frame} bytes each): \
+                     check --input-size and --input-format",
+                    meta.len(),
+                    f.name()
+                ),
+            ));
+        }
+    }
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    open_stream(Box::new(file), path, format, size, false)
+    open_stream(Box::new(file), path, format, size, false, limits)
+}
+
+fn raw_format(format: InputFormat) -> RawFormat {
+    if format == InputFormat::Rgba {
+        RawFormat::Rgba
+    } else {
+        RawFormat::Rgb24
+    }
 }
 
 fn open_stream(
@@ -186,6 +225,7 @@ fn open_stream(
     format: InputFormat,
     size: Option<Size>,
     is_stdin: bool,
+    limits: &Limits,
 ) -> Result<Input, Error> {
     let raw = |f: RawFormat| -> Result<Size, Error> {
         size.ok_or_else(|| {
@@ -209,7 +249,7 @@ fn open_stream(
                 Some(Magic::Png) => InputFormat::PngStream,
                 Some(Magic::Y4m) => InputFormat::Y4m,
                 Some(Magic::Gif) => {
-                    let gif = GifSource::new(reader, name)?;
+                    let gif = GifSource::with_limits(reader, name, limits)?;
                     let size = gif.size();
                     return Ok(Input::new(Box::new(gif), InputKind::Gif, Some(size)));
                 }
@@ -232,24 +272,20 @@ fn open_stream(
     };
     Ok(match format {
         InputFormat::Rgba | InputFormat::Rgb24 => {
-            let f = if format == InputFormat::Rgba {
-                RawFormat::Rgba
-            } else {
-                RawFormat::Rgb24
-            };
+            let f = raw_format(format);
             let size = raw(f)?;
-            let src = RawSource::new(reader, name, size, f);
+            let src = RawSource::with_limits(reader, name, size, f, limits)?;
             Input::new(Box::new(src), InputKind::Raw(f), Some(size))
         }
         InputFormat::Y4m => {
-            let src = Y4mSource::new(reader, name)?;
+            let src = Y4mSource::with_limits(reader, name, limits)?;
             let (size, rate) = (src.size(), src.frame_rate());
             let mut input = Input::new(Box::new(src), InputKind::Y4m, Some(size));
             input.frame_rate = rate;
             input
         }
         InputFormat::PngStream | InputFormat::Auto => {
-            let src = PngStreamSource::new(reader, name);
+            let src = PngStreamSource::with_limits(reader, name, limits);
             Input::new(Box::new(src), InputKind::PngStream, None)
         }
     })
@@ -335,6 +371,21 @@ pub fn resolve_output(path: &Path, choice: OutputChoice) -> Result<Destination, 
         OutputChoice::Rgb24 => Stream(SinkFormat::Raw(RawFormat::Rgb24)),
         OutputChoice::Y4m => Stream(SinkFormat::Y4m),
     })
+}
+
+impl SinkFormat {
+    /// Bytes the sink holds per output pixel while writing, for the memory plan
+    /// ([`Limits::plan_stream`]): a GIF keeps the last input and shown frames, the pending
+    /// frame's indices and the quantizer's maps; PNG encodes through an RGB copy and its
+    /// compressed bytes; the others convert one frame at a time.
+    pub fn held_bytes_per_pixel(self) -> u64 {
+        match self {
+            SinkFormat::Gif => 12,
+            SinkFormat::PngSeq | SinkFormat::PngStream => 8,
+            SinkFormat::Raw(_) => 3,
+            SinkFormat::Y4m => 2,
+        }
+    }
 }
 
 /// Options of stream outputs.

@@ -6,14 +6,16 @@
 
 use super::pipe::{read_full, write_error};
 use super::sniff::PNG_SIGNATURE;
-use super::still::{decode_still, encode_still, OutputFormat};
+use super::still::{decode_still_with, encode_still, OutputFormat};
 use crate::error::Error;
+use crate::limits::Limits;
 use crate::retargeter::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource};
 use std::io::{BufReader, Read, Write};
 use std::path::PathBuf;
 
-/// The largest single PNG accepted in a stream: 1 GiB, as for still inputs.
+/// The largest single PNG accepted in a stream: 1 GiB, as for still inputs (or the memory
+/// budget, if smaller).
 const MAX_PNG_BYTES: usize = 1 << 30;
 
 /// Frames from a stream of PNG files.
@@ -23,16 +25,30 @@ pub struct PngStreamSource<R> {
     next_index: u64,
     buf: Vec<u8>,
     ended: bool,
+    limits: Limits,
+    max_bytes: usize,
 }
 
 impl<R: Read + Send> PngStreamSource<R> {
+    /// PNGs from `reader` within the default [`Limits`]; `name` names it in errors.
     pub fn new(reader: R, name: impl Into<PathBuf>) -> Self {
+        PngStreamSource::with_limits(reader, name, &Limits::default())
+    }
+
+    /// PNGs from `reader`; each is checked against `limits` from its header before it is
+    /// decoded, and frames are counted against them as they are read.
+    pub fn with_limits(reader: R, name: impl Into<PathBuf>, limits: &Limits) -> Self {
+        let max_bytes = limits
+            .decode_bytes()
+            .map_or(MAX_PNG_BYTES, |b| (b.min(MAX_PNG_BYTES as u64)) as usize);
         PngStreamSource {
             reader: BufReader::with_capacity(1 << 16, reader),
             name: name.into(),
             next_index: 0,
             buf: Vec::new(),
             ended: false,
+            limits: limits.clone(),
+            max_bytes,
         }
     }
 
@@ -41,13 +57,21 @@ impl<R: Read + Send> PngStreamSource<R> {
         Error::decode(&self.name, message)
     }
 
-    /// Appends exactly `n` bytes to `buf`; false if the stream ended first.
+    /// Appends exactly `n` bytes to `buf`; false if the stream ended first. The buffer grows
+    /// with the bytes that arrive, not with what a chunk header claims.
     fn take(&mut self, n: usize) -> Result<bool, Error> {
         let start = self.buf.len();
-        self.buf.resize(start + n, 0);
-        let got = read_full(&mut self.reader, &mut self.buf[start..])
+        if n <= 1 << 16 {
+            self.buf.resize(start + n, 0);
+            let got = read_full(&mut self.reader, &mut self.buf[start..])
+                .map_err(|e| Error::io(&self.name, e))?;
+            self.buf.truncate(start + got);
+            return Ok(got == n);
+        }
+        let got = (&mut self.reader)
+            .take(n as u64)
+            .read_to_end(&mut self.buf)
             .map_err(|e| Error::io(&self.name, e))?;
-        self.buf.truncate(start + got);
         Ok(got == n)
     }
 }
@@ -67,6 +91,10 @@ impl<R: Read + Send> FrameSource for PngStreamSource<R> {
             return Err(self.fail(format!(
                 "PNG {i} of the stream is incomplete: the stream ends inside its signature"
             )));
+        }
+        if let Err(e) = self.limits.check_frame_index(&self.name, i) {
+            self.ended = true;
+            return Err(e);
         }
         if self.buf[..8] != PNG_SIGNATURE[..] {
             return Err(self.fail(format!(
@@ -88,10 +116,11 @@ impl<R: Read + Send> FrameSource for PngStreamSource<R> {
                 self.buf[at + 3],
             ]) as usize;
             let is_end = &self.buf[at + 4..at + 8] == b"IEND";
-            if len > i32::MAX as usize || self.buf.len() + len + 4 > MAX_PNG_BYTES {
+            if len > i32::MAX as usize || self.buf.len() + len + 4 > self.max_bytes {
                 return Err(self.fail(format!(
-                    "PNG {i} of the stream is corrupt or larger than 1 GiB (a chunk claims \
-                     {len} bytes)"
+                    "PNG {i} of the stream is corrupt or larger than {} (a chunk claims {len} \
+                     bytes)",
+                    crate::limits::human_bytes(self.max_bytes as u64)
                 )));
             }
             if !self.take(len + 4)? {
@@ -104,7 +133,8 @@ impl<R: Read + Send> FrameSource for PngStreamSource<R> {
             }
         }
         let label = PathBuf::from(format!("{} (PNG {i})", self.name.display()));
-        let image = decode_still(&self.buf, &label).inspect_err(|_| self.ended = true)?;
+        let image = decode_still_with(&self.buf, &label, &self.limits)
+            .inspect_err(|_| self.ended = true)?;
         self.next_index += 1;
         Ok(Some(Frame::new(image, i)))
     }

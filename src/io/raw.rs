@@ -9,6 +9,7 @@
 use super::pipe::{read_full, write_error};
 use crate::error::Error;
 use crate::image::{Image, Size};
+use crate::limits::Limits;
 use crate::retargeter::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource};
 use std::io::{Read, Write};
@@ -49,10 +50,12 @@ pub struct RawSource<R> {
     next_index: u64,
     buf: Vec<u8>,
     ended: bool,
+    max_frames: Option<u64>,
 }
 
 impl<R: Read + Send> RawSource<R> {
-    /// Reads frames of `size` in `format` from `reader`; `name` names it in errors.
+    /// Reads frames of `size` in `format` from `reader`; `name` names it in errors. No limit
+    /// on the frame count (the caller chose the size).
     pub fn new(reader: R, name: impl Into<PathBuf>, size: Size, format: RawFormat) -> Self {
         RawSource {
             reader,
@@ -62,7 +65,24 @@ impl<R: Read + Send> RawSource<R> {
             next_index: 0,
             buf: Vec::new(),
             ended: false,
+            max_frames: None,
         }
+    }
+
+    /// As [`RawSource::new`], with `size` checked against `limits` and frames counted against
+    /// them as they are read.
+    pub fn with_limits(
+        reader: R,
+        name: impl Into<PathBuf>,
+        size: Size,
+        format: RawFormat,
+        limits: &Limits,
+    ) -> Result<Self, Error> {
+        let mut src = RawSource::new(reader, name, size, format);
+        let what = format!("--input-size {size}");
+        limits.check_pixels(&src.name, &what, size.width as u64, size.height as u64)?;
+        src.max_frames = limits.max_frames;
+        Ok(src)
     }
 
     fn frame_bytes(&self) -> usize {
@@ -76,6 +96,16 @@ impl<R: Read + Send> FrameSource for RawSource<R> {
             return Ok(None);
         }
         let expected = self.frame_bytes();
+        if let Some(max) = self.max_frames.filter(|&m| self.next_index >= m) {
+            // One byte tells whether the stream goes on past the limit.
+            let more =
+                read_full(&mut self.reader, &mut [0u8; 1]).map_err(|e| Error::io(&self.name, e))?;
+            self.ended = true;
+            if more == 0 {
+                return Ok(None);
+            }
+            return Err(crate::limits::too_many_frames(&self.name, max));
+        }
         let (got, pixels) = match self.format {
             RawFormat::Rgba => {
                 let mut pixels = vec![[0u8; 4]; self.size.area()];

@@ -2,49 +2,97 @@
 //! bytes, not their extension); PNG or JPEG out, written atomically.
 
 use crate::error::Error;
-use crate::image::{Image, Size, MAX_SIDE};
-use image::{ImageDecoder, ImageError, ImageFormat};
+use crate::image::{Image, Size};
+use crate::limits::Limits;
+use image::{ColorType, ImageDecoder, ImageError, ImageFormat};
 use std::io::{BufRead, BufReader, Cursor, Read, Seek, Write};
 use std::path::Path;
 
-/// Most bytes read from an input that is not a regular file (a pipe, a device): 1 GiB. A regular
-/// file is streamed, so only its header is read before the size checks.
+/// Most bytes read from an input that is not a regular file (a pipe, a device): 1 GiB, or the
+/// memory budget if smaller. A regular file is streamed, so only its header is read before the
+/// size checks.
 const MAX_STREAMED_BYTES: u64 = 1 << 30;
 
-/// Most bytes a decoder may allocate: the `image` crate's default of 512 MiB, about a
-/// 11000x11000 RGBA picture.
-const MAX_DECODE_BYTES: u64 = 512 * 1024 * 1024;
+/// Reads a still image (the first frame of an animation), as RGBA8, within the default
+/// [`Limits`].
+pub fn read_still(path: &Path) -> Result<Image, Error> {
+    read_still_with(path, &Limits::default())
+}
 
 /// Reads a still image (the first frame of an animation), as RGBA8.
 ///
-/// The format is recognised by content. Sizes above [`MAX_SIDE`] are refused from the header,
-/// before any pixel is decoded.
-pub fn read_still(path: &Path) -> Result<Image, Error> {
+/// The format is recognised by content. Sizes above [`crate::MAX_SIDE`] or [`Limits::max_pixels`]
+/// are refused from the header, before any pixel is decoded; decoders may allocate up to
+/// [`Limits::memory_budget`].
+pub fn read_still_with(path: &Path, limits: &Limits) -> Result<Image, Error> {
+    match open_still(path, limits)? {
+        Opened::File(reader) => decode_from(reader, path, limits),
+        Opened::Bytes(bytes) => decode_still_with(&bytes, path, limits),
+    }
+}
+
+/// The size a still image declares in its header, checked as [`read_still_with`] checks it,
+/// without decoding a pixel: what a caller needs to check a job's memory before the decode.
+pub fn probe_still(path: &Path, limits: &Limits) -> Result<Size, Error> {
+    match open_still(path, limits)? {
+        Opened::File(reader) => header_of(reader, path, limits).map(|(_, size, _)| size),
+        Opened::Bytes(bytes) => {
+            header_of(Cursor::new(&bytes[..]), path, limits).map(|(_, size, _)| size)
+        }
+    }
+}
+
+enum Opened {
+    File(BufReader<std::fs::File>),
+    Bytes(Vec<u8>),
+}
+
+fn open_still(path: &Path, limits: &Limits) -> Result<Opened, Error> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let meta = file.metadata().map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
         return Err(Error::decode(path, "is a directory, not an image"));
     }
     if meta.is_file() {
-        return decode_from(BufReader::new(file), path);
+        return Ok(Opened::File(BufReader::new(file)));
     }
     // Pipes and devices cannot seek, and `/dev/zero` never ends: read a bounded amount.
+    let max = limits
+        .decode_bytes()
+        .map_or(MAX_STREAMED_BYTES, |b| b.min(MAX_STREAMED_BYTES));
     let mut bytes = Vec::new();
-    file.take(MAX_STREAMED_BYTES + 1)
+    file.take(max + 1)
         .read_to_end(&mut bytes)
         .map_err(|e| Error::io(path, e))?;
-    if bytes.len() as u64 > MAX_STREAMED_BYTES {
-        return Err(Error::decode(path, "input stream is larger than 1 GiB"));
+    if bytes.len() as u64 > max {
+        return Err(Error::decode(
+            path,
+            format!(
+                "input stream is larger than {}",
+                crate::limits::human_bytes(max)
+            ),
+        ));
     }
-    decode_still(&bytes, path)
+    Ok(Opened::Bytes(bytes))
+}
+
+/// Decodes a still image from memory within the default [`Limits`]; `path` only names it in
+/// errors.
+pub fn decode_still(bytes: &[u8], path: &Path) -> Result<Image, Error> {
+    decode_still_with(bytes, path, &Limits::default())
 }
 
 /// Decodes a still image from memory; `path` only names it in errors.
-pub fn decode_still(bytes: &[u8], path: &Path) -> Result<Image, Error> {
-    decode_from(Cursor::new(bytes), path)
+pub fn decode_still_with(bytes: &[u8], path: &Path, limits: &Limits) -> Result<Image, Error> {
+    decode_from(Cursor::new(bytes), path, limits)
 }
 
-fn decode_from<R: BufRead + Seek>(source: R, path: &Path) -> Result<Image, Error> {
+/// The decoder, after its header is read and its size checked.
+fn header_of<'a, R: BufRead + Seek + 'a>(
+    source: R,
+    path: &Path,
+    limits: &Limits,
+) -> Result<(impl ImageDecoder + 'a, Size, String), Error> {
     let mut reader = image::ImageReader::new(source)
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?;
@@ -70,34 +118,52 @@ fn decode_from<R: BufRead + Seek>(source: R, path: &Path) -> Result<Image, Error
         }
     };
     let name = format_name(format);
-    let mut limits = image::Limits::no_limits();
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
-    reader.limits(limits);
+    let mut decode_limits = image::Limits::no_limits();
+    decode_limits.max_alloc = limits.decode_bytes();
+    reader.limits(decode_limits);
     // Building the decoder reads the header only; the size is checked before any pixel.
     let decoder = reader
         .into_decoder()
-        .map_err(|e| Error::decode(path, describe(&name, e)))?;
+        .map_err(|e| decode_error(path, &name, e, limits))?;
     let (w, h) = decoder.dimensions();
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
-        return Err(Error::decode(
-            path,
-            format!("{name} declares {w}x{h} px: out of range, each side must be 1 to {MAX_SIDE}"),
-        ));
-    }
-    let decoded = image::DynamicImage::from_decoder(decoder)
-        .map_err(|e| Error::decode(path, describe(&name, e)))?;
-    let rgba = decoded.into_rgba8();
-    let size = Size::new(rgba.width(), rgba.height()).map_err(|_| {
-        Error::decode(
-            path,
-            format!(
-                "image size {}x{} is not supported",
-                rgba.width(),
-                rgba.height()
-            ),
-        )
-    })?;
-    Image::from_rgba_bytes(size, rgba.as_raw())
+    let size = limits.check_size(path, &name, w as u64, h as u64)?;
+    Ok((decoder, size, name))
+}
+
+fn decode_from<R: BufRead + Seek>(source: R, path: &Path, limits: &Limits) -> Result<Image, Error> {
+    let (decoder, size, name) = header_of(source, path, limits)?;
+    let fail = |e: ImageError| decode_error(path, &name, e, limits);
+    let px = size.area();
+    let expand = |native: &[u8], bpp: usize, f: fn(&[u8]) -> [u8; 4]| -> Vec<[u8; 4]> {
+        native.chunks_exact(bpp).map(f).collect()
+    };
+    // Into the picture's own buffer where the layout allows, so the peak is the decoder's
+    // bytes plus the picture, not two more copies.
+    let pixels: Vec<[u8; 4]> = match decoder.color_type() {
+        ColorType::Rgba8 => {
+            let mut pixels = vec![[0u8; 4]; px];
+            decoder
+                .read_image(pixels.as_flattened_mut())
+                .map_err(fail)?;
+            pixels
+        }
+        c @ (ColorType::Rgb8 | ColorType::L8 | ColorType::La8) => {
+            let mut native = vec![0u8; decoder.total_bytes() as usize];
+            decoder.read_image(&mut native).map_err(fail)?;
+            match c {
+                ColorType::Rgb8 => expand(&native, 3, |p| [p[0], p[1], p[2], 255]),
+                ColorType::L8 => expand(&native, 1, |p| [p[0], p[0], p[0], 255]),
+                _ => expand(&native, 2, |p| [p[0], p[0], p[0], p[1]]),
+            }
+        }
+        _ => {
+            let rgba = image::DynamicImage::from_decoder(decoder)
+                .map_err(fail)?
+                .into_rgba8();
+            expand(rgba.as_raw(), 4, |p| [p[0], p[1], p[2], p[3]])
+        }
+    };
+    Image::from_pixels(size, pixels)
         .ok_or_else(|| Error::decode(path, "the decoder returned a wrong number of pixels"))
 }
 
@@ -118,7 +184,22 @@ fn format_name(f: ImageFormat) -> String {
     }
 }
 
-/// One line saying what is wrong with the file: truncated, corrupt, unsupported or too large.
+/// The decoder's error as ours: over the memory budget, or what [`describe`] says.
+fn decode_error(path: &Path, name: &str, e: ImageError, limits: &Limits) -> Error {
+    match (&e, limits.memory_budget) {
+        (ImageError::Limits(_), Some(budget)) => Error::LimitExceeded {
+            path: path.to_path_buf(),
+            limit: crate::Limit::Memory,
+            message: format!(
+                "decoding this {name} needs more than the memory limit of {}",
+                crate::limits::human_bytes(budget)
+            ),
+        },
+        _ => Error::decode(path, describe(name, e)),
+    }
+}
+
+/// One line saying what is wrong with the file: truncated, corrupt or unsupported.
 fn describe(name: &str, e: ImageError) -> String {
     let truncated = {
         let mut src: Option<&(dyn std::error::Error + 'static)> = Some(&e);
@@ -133,12 +214,7 @@ fn describe(name: &str, e: ImageError) -> String {
         eof
     };
     let text = match &e {
-        ImageError::Limits(_) => {
-            return format!(
-                "{name} image needs more than {} MiB to decode",
-                MAX_DECODE_BYTES >> 20
-            )
-        }
+        ImageError::Limits(l) => return one_line(&format!("{name} image: {l}")),
         ImageError::Unsupported(u) => return one_line(&format!("unsupported {name} variant: {u}")),
         // "Format error decoding Png: <detail>": keep the detail.
         ImageError::Decoding(d) => {
@@ -153,8 +229,18 @@ fn describe(name: &str, e: ImageError) -> String {
     }
 }
 
-/// Decoders may quote raw bytes from the file: keep the message on one printable line.
+/// Decoders may quote raw bytes from the file: keep the message on one printable line. The
+/// `png` crate names a chunk by its `Debug` form (`ChunkType { type: IHDR, critical: true,
+/// .. }`): keep its name only.
 fn one_line(s: &str) -> String {
+    let mut s = s.to_string();
+    while let Some(start) = s.find("ChunkType { type: ") {
+        let Some(len) = s[start..].find('}') else {
+            break;
+        };
+        let name: String = s[start + 18..].chars().take(4).collect();
+        s.replace_range(start..start + len + 1, &name);
+    }
     s.chars()
         .map(|c| if c.is_control() { '?' } else { c })
         .collect()

@@ -29,7 +29,7 @@
 
 use super::names::FrameNames;
 use super::natural::natural_cmp;
-use super::still::read_still;
+use super::still::read_still_with;
 use crate::error::Error;
 use crate::retargeter::Frame;
 use crate::stream::FrameSource;
@@ -57,6 +57,8 @@ pub struct WatchOptions {
     pub cancel: Arc<AtomicBool>,
     /// Told about files that vanished or could not be read; watching goes on.
     pub on_warning: Box<dyn FnMut(&Error) + Send>,
+    /// Each snapshot is checked against these from its header before it is decoded.
+    pub limits: crate::Limits,
 }
 
 impl Default for WatchOptions {
@@ -66,6 +68,7 @@ impl Default for WatchOptions {
             existing: true,
             cancel: Arc::new(AtomicBool::new(false)),
             on_warning: Box::new(|_| {}),
+            limits: crate::Limits::default(),
         }
     }
 }
@@ -343,7 +346,7 @@ impl WatchSource {
                 continue;
             }
             let path = c.path.clone();
-            match read_still(&path) {
+            match read_still_with(&path, &self.options.limits) {
                 Ok(image) => {
                     // Unchanged while we read it?
                     let after = std::fs::metadata(&path).map(|m| fingerprint(&m)).ok();

@@ -14,6 +14,7 @@
 use super::pipe::{read_full, write_error};
 use crate::error::Error;
 use crate::image::{Image, Size};
+use crate::limits::Limits;
 use crate::retargeter::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource};
 use std::io::{BufRead, BufReader, Read, Write};
@@ -111,11 +112,23 @@ pub struct Y4mSource<R> {
     buf: Vec<u8>,
     line: Vec<u8>,
     ended: bool,
+    limits: Limits,
 }
 
 impl<R: Read + Send> Y4mSource<R> {
-    /// Reads and checks the stream header; `name` names the stream in errors.
+    /// Reads and checks the stream header within the default [`Limits`]; `name` names the
+    /// stream in errors.
     pub fn new(reader: R, name: impl Into<PathBuf>) -> Result<Self, Error> {
+        Y4mSource::with_limits(reader, name, &Limits::default())
+    }
+
+    /// Reads and checks the stream header, its frame size against `limits` (frames are
+    /// counted against them as they are read); `name` names the stream in errors.
+    pub fn with_limits(
+        reader: R,
+        name: impl Into<PathBuf>,
+        limits: &Limits,
+    ) -> Result<Self, Error> {
         let name = name.into();
         let mut reader = BufReader::with_capacity(1 << 16, reader);
         let mut line = Vec::new();
@@ -135,7 +148,9 @@ impl<R: Read + Send> Y4mSource<R> {
         let header = String::from_utf8_lossy(&line[9..line.len() - 1]).into_owned();
         let (mut w, mut h, mut chroma, mut rate) = (None, None, Chroma::C420, None);
         for token in header.split_ascii_whitespace() {
-            let (tag, value) = token.split_at(1);
+            // By character: a byte that is not UTF-8 became a 3-byte U+FFFD above.
+            let tag_len = token.chars().next().map_or(0, char::len_utf8);
+            let (tag, value) = token.split_at(tag_len);
             match tag {
                 "W" => w = value.parse::<u32>().ok(),
                 "H" => h = value.parse::<u32>().ok(),
@@ -170,15 +185,7 @@ impl<R: Read + Send> Y4mSource<R> {
                 "YUV4MPEG2 header lacks a valid width (W) or height (H)",
             ));
         };
-        let size = Size::new(w, h).map_err(|_| {
-            Error::decode(
-                &name,
-                format!(
-                    "YUV4MPEG2 declares {w}x{h} px: out of range, each side must be 1 to {}",
-                    crate::MAX_SIDE
-                ),
-            )
-        })?;
+        let size = limits.check_size(&name, "YUV4MPEG2", w as u64, h as u64)?;
         Ok(Y4mSource {
             reader,
             name,
@@ -189,6 +196,7 @@ impl<R: Read + Send> Y4mSource<R> {
             buf: Vec::new(),
             line,
             ended: false,
+            limits: limits.clone(),
         })
     }
 
@@ -242,6 +250,10 @@ impl<R: Read + Send> FrameSource for Y4mSource<R> {
         if self.line.is_empty() {
             self.ended = true;
             return Ok(None);
+        }
+        if let Err(e) = self.limits.check_frame_index(&self.name, self.next_index) {
+            self.ended = true;
+            return Err(e);
         }
         if !self.line.starts_with(b"FRAME") || !matches!(self.line.get(5), Some(b' ' | b'\n')) {
             self.ended = true;

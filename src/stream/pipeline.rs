@@ -6,21 +6,22 @@
 //! dropping the sender is the shutdown signal (no sentinel messages, as in gifski). Channels
 //! hold one frame each: memory stays flat on an endless stdin stream, and a slow sink slows
 //! the source rather than piling frames up. Frame order is kept because every stage is one
-//! thread and channels are FIFO.
+//! thread and channels are FIFO. A run planned against a memory budget
+//! ([`crate::Limits::plan_stream`]) may hand frames over with no slot at all (rendezvous
+//! channels, as gifski between heavy stages): about half the frames in flight, each stage
+//! waiting a little more for its neighbours.
 
 use super::stages::{MeshStage, Meshed, RenderStage, Saliency, SaliencyStage, SolveStage, Solved};
 use super::{Decision, FrameSink, FrameSource, Progress};
 use crate::error::Error;
 use crate::image::Size;
+use crate::limits::MemoryPlan;
 use crate::mesh::MeshOptions;
 use crate::retargeter::{finish, Frame, FrameParts, Options, StageTimes};
 use crate::vector::{overlay, prepare_frame, Binding, RaisedVsm};
 use crossbeam_channel::{bounded, Receiver, Sender};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-
-/// Frames waiting between two stages.
-const CHANNEL_CAPACITY: usize = 1;
 
 /// What a run did.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -113,16 +114,33 @@ impl Pipeline {
         progress: &dyn Progress,
         cancel: &AtomicBool,
     ) -> Result<RunSummary, Error> {
+        let plan = MemoryPlan::unbounded(target, target);
+        Pipeline::run_planned(&plan, target, options, source, sink, progress, cancel)
+    }
+
+    /// [`Pipeline::run`] within a memory plan: its channel capacity, and every frame admitted
+    /// by [`MemoryPlan::admit`] as it is read (a larger frame that would not fit ends the run
+    /// with [`Error::LimitExceeded`], after the frames before it).
+    pub fn run_planned(
+        plan: &MemoryPlan,
+        target: Size,
+        options: &Options,
+        source: &mut dyn FrameSource,
+        sink: &mut dyn FrameSink,
+        progress: &dyn Progress,
+        cancel: &AtomicBool,
+    ) -> Result<RunSummary, Error> {
         Size::new(target.width, target.height)?;
+        let capacity = plan.channel_capacity;
         options.validate()?;
         let start = Instant::now();
         let stop = AtomicBool::new(false);
         let mut summary = RunSummary::default();
-        let (tx0, rx0) = bounded::<Frame>(CHANNEL_CAPACITY);
-        let (tx1, rx1) = bounded::<WithVsm>(CHANNEL_CAPACITY);
-        let (tx2, rx2) = bounded::<WithMesh>(CHANNEL_CAPACITY);
-        let (tx3, rx3) = bounded::<WithWarp>(CHANNEL_CAPACITY);
-        let (tx4, rx4) = bounded(CHANNEL_CAPACITY);
+        let (tx0, rx0) = bounded::<Frame>(capacity);
+        let (tx1, rx1) = bounded::<WithVsm>(capacity);
+        let (tx2, rx2) = bounded::<WithMesh>(capacity);
+        let (tx3, rx3) = bounded::<WithWarp>(capacity);
+        let (tx4, rx4) = bounded(capacity);
 
         let cancelled = AtomicBool::new(false);
         let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
@@ -148,6 +166,7 @@ impl Pipeline {
                                     return Err(e);
                                 }
                             };
+                            plan.admit(frame.frame_index, frame.image.size())?;
                             if tx0.send(frame).is_err() {
                                 return Ok(());
                             }

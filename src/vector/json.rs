@@ -133,7 +133,8 @@ const DEFAULT_WIDTH: f64 = 1.0;
 /// Parses one layer from JSON text; the message says where a problem is (line and column)
 /// and what was expected.
 pub fn parse_layer(text: &str) -> Result<VectorLayer, String> {
-    let raw: RawLayer = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    let raw: RawLayer =
+        serde_json::from_str(text).map_err(|e| format!("{e}{}", not_json_number(text, &e)))?;
     let layer = resolve(raw)?;
     layer.validate()?;
     Ok(layer)
@@ -148,11 +149,30 @@ pub(crate) fn parse_line(text: &str, line: usize) -> Result<VectorLayer, String>
             .rsplit_once(" at line ")
             .map_or(msg.as_str(), |(m, _)| m)
             .to_string();
-        format!("line {line}, column {}: {msg}", e.column())
+        format!(
+            "line {line}, column {}: {msg}{}",
+            e.column(),
+            not_json_number(text, &e)
+        )
     })?;
     let layer = resolve(raw).map_err(|m| format!("line {line}: {m}"))?;
     layer.validate().map_err(|m| format!("line {line}: {m}"))?;
     Ok(layer)
+}
+
+/// A hint when serde_json stopped at `NaN` or `Infinity`: JSON has neither, but some writers
+/// (Python's `json.dumps`) emit them, and "expected value" alone does not say why.
+fn not_json_number(text: &str, e: &serde_json::Error) -> &'static str {
+    let line = text.lines().nth(e.line().saturating_sub(1)).unwrap_or("");
+    let at = line
+        .get(e.column().saturating_sub(1)..)
+        .unwrap_or("")
+        .trim_start_matches('-');
+    if at.starts_with("NaN") || at.starts_with("Infinity") {
+        " (JSON has no NaN or Infinity: give a number, or leave the mark out)"
+    } else {
+        ""
+    }
 }
 
 /// Parses JSON Lines text into one layer per non-blank line.
@@ -337,5 +357,19 @@ mod tests {
         assert!(e.starts_with("line 3, column"), "{e}");
         assert!(!e.contains("at line"), "{e}");
         assert_eq!(parse_layer_lines("{}\n\n{}\n").unwrap().len(), 2);
+        for bad in ["NaN", "Infinity", "-Infinity"] {
+            let text = format!("{{\"points\": [{{\"x\": {bad}, \"y\": 2, \"r\": 3}}]}}");
+            let e = parse_layer(&text).unwrap_err();
+            assert!(e.contains("JSON has no NaN"), "{bad}: {e}");
+            let e = parse_layer_lines(&format!("{{}}\n{text}")).unwrap_err();
+            assert!(
+                e.starts_with("line 2") && e.contains("JSON has no NaN"),
+                "{e}"
+            );
+        }
+        let e = parse_layer(r#"{"points": [{"x": Nope, "y": 2, "r": 3}]}"#).unwrap_err();
+        assert!(!e.contains("NaN"), "{e}");
+        let e = parse_layer(r#"{"points": [{"x": 1, "y": 2, "r": 1e300}]}"#).unwrap_err();
+        assert!(e.contains("radius 1e300 is out of range"), "{e}");
     }
 }

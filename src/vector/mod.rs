@@ -88,6 +88,11 @@
 //! beside `frame-0001.png` (a frame without a sidecar has no marks). A plain `.json` file with
 //! a stream is one layer for every frame. Errors name the file and, where there is one, the
 //! line and column.
+//!
+//! Every number must be finite and within ±[`MAX_COORD`] (JSON has no `NaN` or `Infinity`;
+//! the error says so when a writer emitted them), radii 0 or more, widths above 0. A mark
+//! outside the canvas is accepted: it is carried by the affine map of the nearest triangle
+//! ([`MeshMap::map`]) and drawn where it lands, so one far off the output is not drawn at all.
 
 mod draw;
 mod footprint;
@@ -190,6 +195,16 @@ pub struct VectorOptions {
 /// sums and squares stay exact enough and loops over bounding boxes stay bounded.
 pub const MAX_COORD: f64 = 1.0e6;
 
+/// A number for a message: as written when modest, in exponent form when huge (`1e300` is
+/// 301 digits in `{}` form, a line no one reads).
+fn num(v: f64) -> String {
+    if v.is_finite() && v.abs() < 1e9 {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 impl VectorLayer {
     /// Whether the layer holds no marks.
     pub fn is_empty(&self) -> bool {
@@ -204,20 +219,21 @@ impl VectorLayer {
             if !coord(p.x) || !coord(p.y) {
                 return Err(format!(
                     "points[{i}]: centre ({}, {}) is not a finite coordinate within ±{MAX_COORD}",
-                    p.x, p.y
+                    num(p.x),
+                    num(p.y)
                 ));
             }
             if !(p.radius >= 0.0 && p.radius <= MAX_COORD) {
                 return Err(format!(
                     "points[{i}]: radius {} is out of range: 0 to {MAX_COORD}",
-                    p.radius
+                    num(p.radius)
                 ));
             }
             if let Some(s) = &p.stroke {
                 if !(s.width > 0.0 && s.width <= MAX_COORD) {
                     return Err(format!(
                         "points[{i}]: stroke width {} is out of range: above 0, up to {MAX_COORD}",
-                        s.width
+                        num(s.width)
                     ));
                 }
             }
@@ -229,13 +245,14 @@ impl VectorLayer {
             if let Some(q) = l.points.iter().find(|q| !coord(q[0]) || !coord(q[1])) {
                 return Err(format!(
                     "polylines[{i}]: point ({}, {}) is not a finite coordinate within ±{MAX_COORD}",
-                    q[0], q[1]
+                    num(q[0]),
+                    num(q[1])
                 ));
             }
             if !(l.width > 0.0 && l.width <= MAX_COORD) {
                 return Err(format!(
                     "polylines[{i}]: width {} is out of range: above 0, up to {MAX_COORD}",
-                    l.width
+                    num(l.width)
                 ));
             }
         }
@@ -250,7 +267,7 @@ impl VectorLayer {
             if !(e.width > 0.0 && e.width <= MAX_COORD) {
                 return Err(format!(
                     "edges[{i}]: width {} is out of range: above 0, up to {MAX_COORD}",
-                    e.width
+                    num(e.width)
                 ));
             }
         }
