@@ -193,11 +193,7 @@ pub fn summary_line(r: &RunSummary, from: Option<Size>, to: Size) -> String {
         t.mesh_ms / n,
         t.solve_ms / n,
         t.render_ms / n,
-        if r.cancelled {
-            " (stopped by Ctrl-C)"
-        } else {
-            ""
-        },
+        if r.cancelled { " (interrupted)" } else { "" },
     )
 }
 

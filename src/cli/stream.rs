@@ -10,7 +10,7 @@ use std::sync::atomic::Ordering;
 use vizretarget::io::{
     is_std, open_input, open_sink, FrameRate, InputFormat, SinkFormat, SinkOptions,
 };
-use vizretarget::stream::{Progress, VecSource};
+use vizretarget::stream::{DetachedSource, Progress, VecSource};
 use vizretarget::vector::MarkedSource;
 use vizretarget::{Options, Pipeline, Size};
 
@@ -43,15 +43,26 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         InputArg::Y4m => InputFormat::Y4m,
         InputArg::Png => InputFormat::PngStream,
     };
+    // Until the source is detached below, a signal ends the program at once: nothing has
+    // been written yet, and opening stdin may wait on a writer that sends nothing.
     let mut input = open_input(input_path, input_format, input_size).map_err(library_error)?;
     if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {
         let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
         input.source = Box::new(MarkedSource::new(frames, marks));
     }
+    // From here a first signal stops the reading (even a read that is blocked) and the frames
+    // already read are finished and written.
+    let cancel = interrupt::stop_gracefully();
+    let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
+    input.source = Box::new(DetachedSource::new(frames, cancel.clone()));
     let from = match (cli.size, cli.width, cli.height) {
         (Some(_), _, _) | (None, Some(_), Some(_)) => input.known_size(),
         _ => input.frame_size()?,
     };
+    if from.is_none() && interrupt::interrupted() {
+        eprintln!("vizretarget: stopped before the first frame; nothing written");
+        return Ok(Outcome::Interrupted);
+    }
     let target = match (cli.size, cli.width, cli.height, from) {
         (Some((w, h)), _, _, _) => Size::new(w, h)?,
         (None, Some(w), Some(h), _) => Size::new(w, h)?,
@@ -68,7 +79,6 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         names: input.names.clone(),
     };
     let mut sink = open_sink(output, format, sink_options)?;
-    let cancel = interrupt::cancel_flag()?;
     let reporter = Reporter::new(
         input.source.len_hint(),
         args.quiet,
@@ -94,8 +104,15 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
             .write_json(path, result.as_ref().ok())
             .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
     }
-    let summary = result.map_err(library_error)?;
     let interrupted = cancel.load(Ordering::SeqCst);
+    let summary = match result {
+        // A GIF needs a frame: stopped before the first one, no file is written.
+        Err(vizretarget::Error::NoFrames(_)) if interrupted => {
+            eprintln!("vizretarget: stopped before the first frame; nothing written");
+            return Ok(Outcome::Interrupted);
+        }
+        r => r.map_err(library_error)?,
+    };
     if summary.frames == 0 && !interrupted && !summary.output_closed {
         bail!("{}: no frames", input_path.display());
     }

@@ -25,7 +25,8 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         );
     }
     let sink = PngSeqSink::create(&args.output, None);
-    let cancel = interrupt::cancel_flag()?;
+    // A first signal stops watching between snapshots; the ones in flight are written.
+    let cancel = interrupt::stop_gracefully();
     let watch_options = WatchOptions {
         settle: Duration::from_millis(args.settle_ms),
         existing: true,
