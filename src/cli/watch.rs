@@ -5,11 +5,13 @@ use super::report::{summary_line, PerFrame, Reporter};
 use super::stream::same_folder;
 use super::{interrupt, library_error, Outcome};
 use anyhow::{bail, Context, Result};
+use std::collections::HashSet;
 use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use vizretarget::io::{open_watch, PngSeqSink, WatchOptions};
-use vizretarget::stream::Progress;
-use vizretarget::{Options, Pipeline, Size};
+use vizretarget::stream::{FrameSink, Progress};
+use vizretarget::{Options, Pipeline, Retargeted, Size};
 
 pub fn run(args: &WatchArgs) -> Result<Outcome> {
     let options = Options::default().with_alpha(args.alpha);
@@ -35,9 +37,14 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
     };
     let mut input = open_watch(&args.dir, watch_options).map_err(library_error)?;
     let names = input.names.clone();
-    let mut sink = match sink {
+    let sink = match sink {
         Ok(_) => PngSeqSink::create(&args.output, names.clone())?,
         Err(e) => return Err(library_error(e)),
+    };
+    let failed = Arc::new(Mutex::new(HashSet::new()));
+    let mut sink = KeepWatching {
+        inner: sink,
+        failed: failed.clone(),
     };
     let from = match (args.size, args.width, args.height) {
         (Some(_), _, _) | (None, Some(_), Some(_)) => input.known_size(),
@@ -60,7 +67,8 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         },
         names,
         args.stats_json.is_some(),
-    );
+    )
+    .with_failed_writes(failed.clone());
     let result = Pipeline::run(
         target,
         &options,
@@ -76,11 +84,50 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
     }
     let summary = result.map_err(library_error)?;
     if !args.quiet {
-        eprintln!("{}", summary_line(&summary, from, target));
+        let not_written = failed.lock().unwrap_or_else(|e| e.into_inner()).len();
+        let note = match not_written {
+            0 => String::new(),
+            n => format!("; {n} not written"),
+        };
+        eprintln!("{}{note}", summary_line(&summary, from, target));
     }
     Ok(if cancel.load(Ordering::SeqCst) {
         Outcome::Interrupted
     } else {
         Outcome::Done
     })
+}
+
+/// The output folder's sink that outlives a failed write (OUTDIR made read-only, a full
+/// disk): the error is reported with the file's name, that output is skipped, and watching
+/// goes on. A skipped snapshot is not retried by itself; it is retargeted again when it
+/// changes (a new version, or a touch).
+struct KeepWatching {
+    inner: PngSeqSink,
+    /// Frames whose output could not be written.
+    failed: Arc<Mutex<HashSet<u64>>>,
+}
+
+impl FrameSink for KeepWatching {
+    fn write_frame(&mut self, frame: &Retargeted) -> Result<(), vizretarget::Error> {
+        match self.inner.write_frame(frame) {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                let (name, _) = self.inner.file_for(frame.frame_index);
+                eprintln!(
+                    "vizretarget: error: {e}; {name} not written (it is retargeted again when \
+                     its snapshot changes); watching goes on"
+                );
+                self.failed
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .insert(frame.frame_index);
+                Ok(())
+            }
+        }
+    }
+
+    fn finish(&mut self) -> Result<(), vizretarget::Error> {
+        self.inner.finish()
+    }
 }
