@@ -26,9 +26,10 @@
 //! - **Faults** are reported to the warning callback and watching goes on; the library never
 //!   prints. A file deleted before it could be read is skipped. A file that cannot be opened
 //!   (no read permission) is skipped until its permissions or its content change (a `chmod`
-//!   brings it back). The watched folder removed (or moved away) is reported once; the source
-//!   then looks for a folder at the same path every 100 ms, watches it when it is back
-//!   (reported too), and reads the snapshots in it as files already there at the start.
+//!   brings it back). The watched folder removed (or moved away) is reported
+//!   once, whether the watcher says so or the path now holds another folder; the source then
+//!   looks for a folder at the same path every 100 ms, watches it when it is back (reported
+//!   too), and reads the snapshots in it as files already there at the start.
 //! - **Stopping**: the cancel flag (Ctrl-C) ends the stream within 100 ms.
 
 use super::names::FrameNames;
@@ -141,6 +142,10 @@ pub struct WatchSource {
     dir_inode: u64,
     /// `None` while the folder is gone.
     watcher: Option<notify::RecommendedWatcher>,
+    /// The watcher reported the folder itself deleted or moved. Needed besides the inode
+    /// check: a folder recreated at once often gets the freed inode back (ext4), while the
+    /// old watch is dead.
+    folder_gone: bool,
     events: Receiver<notify::Result<Event>>,
     candidates: Vec<Candidate>,
     done: HashMap<PathBuf, Fingerprint>,
@@ -184,6 +189,7 @@ impl WatchSource {
             dir,
             dir_inode,
             watcher: Some(watcher),
+            folder_gone: false,
             events,
             candidates: Vec::new(),
             done: HashMap::new(),
@@ -215,6 +221,7 @@ impl WatchSource {
     /// The folder was removed or moved away: stop watching it, forget its files.
     fn lose_folder(&mut self) {
         self.watcher = None;
+        self.folder_gone = false;
         // A folder at this path later is a new one: all its snapshots are new.
         self.candidates.clear();
         self.done.clear();
@@ -292,6 +299,15 @@ impl WatchSource {
     }
 
     fn handle(&mut self, event: Event) {
+        if event.paths.iter().any(|p| p == &self.dir)
+            && matches!(
+                event.kind,
+                EventKind::Remove(_) | EventKind::Modify(ModifyKind::Name(_))
+            )
+        {
+            self.folder_gone = true;
+            return;
+        }
         if event.need_rescan() {
             if let Err(e) = self.rescan() {
                 self.warn(e);
@@ -521,10 +537,6 @@ impl FrameSource for WatchSource {
                 }
                 continue;
             }
-            if !self.folder_is_there() {
-                self.lose_folder();
-                continue;
-            }
             while let Ok(event) = self.events.try_recv() {
                 match event {
                     Ok(ev) => self.handle(ev),
@@ -533,6 +545,11 @@ impl FrameSource for WatchSource {
                         std::io::Error::other(format!("watch error: {e}")),
                     )),
                 }
+            }
+            // After the events: a deleted folder's files are not reported one by one.
+            if self.folder_gone || !self.folder_is_there() {
+                self.lose_folder();
+                continue;
             }
             let wait = match self.try_ready()? {
                 Ok(frame) => return Ok(Some(frame)),
