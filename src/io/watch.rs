@@ -24,9 +24,9 @@
 //!   hidden names (a leading `.`, as atomic writers' temporary files) are ignored. Each
 //!   frame's file name is recorded in [`WatchSource::names`].
 //! - **Faults** are reported to the warning callback and watching goes on; the library never
-//!   prints. A file deleted before it could be read is skipped. A file that cannot be opened
-//!   (no read permission) is skipped until its permissions or its content change (a `chmod`
-//!   brings it back). The watched folder removed (or moved away) is reported
+//!   prints. A file deleted before it could be read is reported once and skipped. A file that
+//!   cannot be opened (no read permission) is skipped until its permissions or its content
+//!   change (a `chmod` brings it back). The watched folder removed (or moved away) is reported
 //!   once, whether the watcher says so or the path now holds another folder; the source then
 //!   looks for a folder at the same path every 100 ms, watches it when it is back (reported
 //!   too), and reads the snapshots in it as files already there at the start.
@@ -40,7 +40,7 @@ use crate::retargeter::Frame;
 use crate::stream::FrameSource;
 use notify::event::{AccessKind, AccessMode, ModifyKind, RenameMode};
 use notify::{Event, EventKind, RecursiveMode, Watcher};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
@@ -152,6 +152,9 @@ pub struct WatchSource {
     /// Files that could not be read or decoded, skipped until their fingerprint or
     /// permissions change.
     skipped: HashMap<PathBuf, (Fingerprint, u32)>,
+    /// Files reported as vanished: the events that trail a deletion (a close by the writer)
+    /// must not report them again. Forgotten when a file of that name is created.
+    vanished: HashSet<PathBuf>,
     names: FrameNames,
     next_index: u64,
     next_seq: u64,
@@ -194,6 +197,7 @@ impl WatchSource {
             candidates: Vec::new(),
             done: HashMap::new(),
             skipped: HashMap::new(),
+            vanished: HashSet::new(),
             names: FrameNames::new(),
             next_index: 0,
             next_seq: 0,
@@ -226,6 +230,7 @@ impl WatchSource {
         self.candidates.clear();
         self.done.clear();
         self.skipped.clear();
+        self.vanished.clear();
         let e = Error::decode(
             &self.dir,
             "the watched folder was removed or moved away; waiting for it to come back",
@@ -332,6 +337,7 @@ impl WatchSource {
             }
             EventKind::Modify(ModifyKind::Name(RenameMode::To)) => {
                 for p in paths {
+                    self.vanished.remove(&p);
                     self.touch(p, Writer::Closed);
                 }
             }
@@ -339,6 +345,7 @@ impl WatchSource {
                 // paths = [from, to]: the new name arrived complete.
                 if let Some(to) = event.paths.get(1) {
                     if is_snapshot(&self.dir, to) {
+                        self.vanished.remove(to);
                         self.touch(to.clone(), Writer::Closed);
                     }
                 }
@@ -357,6 +364,9 @@ impl WatchSource {
             }
             EventKind::Create(_) | EventKind::Modify(_) => {
                 for p in paths {
+                    if matches!(event.kind, EventKind::Create(_)) {
+                        self.vanished.remove(&p);
+                    }
                     self.touch(p, Writer::Open);
                 }
             }
@@ -366,6 +376,17 @@ impl WatchSource {
 
     fn warn(&mut self, e: Error) {
         (self.options.on_warning)(&e);
+    }
+
+    /// Reports a snapshot deleted before it could be read, once.
+    fn report_vanished(&mut self, path: PathBuf) {
+        if !self.vanished.contains(&path) {
+            self.warn(Error::decode(
+                &path,
+                "vanished before it could be read; skipped",
+            ));
+            self.vanished.insert(path);
+        }
     }
 
     /// Reads the first ready candidate, if any; returns how long to wait otherwise.
@@ -393,10 +414,7 @@ impl WatchSource {
                 Err(e) => {
                     let c = self.candidates.remove(i);
                     if e.kind() == std::io::ErrorKind::NotFound {
-                        self.warn(Error::decode(
-                            &c.path,
-                            "vanished before it could be read; skipped",
-                        ));
+                        self.report_vanished(c.path);
                     } else {
                         self.warn(Error::io(&c.path, e));
                     }
@@ -456,10 +474,7 @@ impl WatchSource {
                 }
                 Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
                     let c = self.candidates.remove(i);
-                    self.warn(Error::decode(
-                        &c.path,
-                        "vanished before it could be read; skipped",
-                    ));
+                    self.report_vanished(c.path);
                 }
                 Err(Error::Io { source, .. })
                     if source.kind() == std::io::ErrorKind::PermissionDenied =>
