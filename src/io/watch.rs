@@ -30,7 +30,7 @@
 //!   once, whether the watcher says so or the path now holds another folder; the source then
 //!   looks for a folder at the same path every 100 ms, watches it when it is back (reported
 //!   too), and reads the snapshots in it as files already there at the start.
-//! - **Stopping**: the cancel flag (Ctrl-C) ends the stream within 100 ms.
+//! - **Stopping**: the cancel flag (SIGINT or SIGTERM in the CLI) ends the stream within 100 ms.
 
 use super::names::FrameNames;
 use super::natural::natural_cmp;
