@@ -469,6 +469,10 @@ fn a_signal_before_the_first_frame_writes_nothing() {
     let err = lines.all();
     drop(stdin);
     assert_eq!(code, Some(130), "{err}");
+    assert!(
+        err.contains("SIGINT") && err.contains("stopped at once"),
+        "{err}"
+    );
     assert!(listing(dir.path()).is_empty(), "{:?}", listing(dir.path()));
 
     // Raw frames: the GIF is begun (a temporary file) and the reader waits for the first
@@ -540,5 +544,9 @@ fn a_second_signal_quits_at_once_when_the_first_cannot_finish() {
     drop(stdout);
     feeder.join().unwrap();
     assert_eq!(code, Some(143), "{err}");
+    assert!(
+        err.contains("SIGTERM") && err.contains("stopped at once"),
+        "{err}"
+    );
     assert!(!err.contains("panicked"), "{err}");
 }

@@ -41,6 +41,11 @@ fn on_signal(sig: i32) {
             .is_err();
     if stop_now {
         vizretarget::io::remove_temporary_files();
+        // Said, so that a log shows why the run ended without its summary line.
+        eprintln!(
+            "vizretarget: {}: stopped at once; unfinished outputs removed",
+            name(sig)
+        );
         std::process::exit(128 + sig);
     }
     s.cancel.store(true, Ordering::SeqCst);
