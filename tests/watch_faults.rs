@@ -108,7 +108,7 @@ struct Watch {
     child: Child,
     rx: Receiver<String>,
     seen: Vec<String>,
-    root: tempfile::TempDir,
+    _root: tempfile::TempDir,
     inbox: PathBuf,
     outbox: PathBuf,
 }
@@ -149,7 +149,7 @@ impl Watch {
             child,
             rx,
             seen: Vec::new(),
-            root,
+            _root: root,
             inbox,
             outbox,
         };
@@ -185,9 +185,8 @@ impl Watch {
         }
     }
 
-    /// Stops the watcher with SIGINT; its exit code, every stderr line, and the folders
-    /// (kept until the result is dropped).
-    fn stop(mut self) -> (Option<i32>, Vec<String>, tempfile::TempDir) {
+    /// Stops the watcher with SIGINT; its exit code and every stderr line.
+    fn stop(&mut self) -> (Option<i32>, Vec<String>) {
         // SAFETY: kill(2) with the pid of our own child.
         assert_eq!(
             unsafe { libc::kill(self.child.id() as libc::pid_t, libc::SIGINT) },
@@ -205,7 +204,17 @@ impl Watch {
             std::thread::sleep(Duration::from_millis(10));
         };
         self.seen.extend(self.rx.iter());
-        (code, self.seen, self.root)
+        (code, std::mem::take(&mut self.seen))
+    }
+}
+
+/// A test that fails midway must not leave its watcher running.
+impl Drop for Watch {
+    fn drop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
     }
 }
 
@@ -244,8 +253,8 @@ fn a_snapshot_deleted_before_it_is_read_is_reported_once_and_skipped() {
     assert!(line.contains("vanished before it could be read"), "{line}");
     drop_snapshot(&w.inbox, "next.png", 1);
     w.wait_line("next.png written", |l| l.contains("next.png ->"));
-    let outbox = w.outbox.clone();
-    let (code, lines, _root) = w.stop();
+    let (code, lines) = w.stop();
+    let outbox = &w.outbox;
     assert_eq!(code, Some(130), "{lines:#?}");
     assert!(!lines.iter().any(|l| l.contains("panicked")), "{lines:#?}");
     assert_eq!(
@@ -253,7 +262,7 @@ fn a_snapshot_deleted_before_it_is_read_is_reported_once_and_skipped() {
         1,
         "one line for the vanished file: {lines:#?}"
     );
-    assert_eq!(whole_outputs(&outbox), ["first.png", "next.png"]);
+    assert_eq!(whole_outputs(outbox), ["first.png", "next.png"]);
 }
 
 #[test]
@@ -280,8 +289,8 @@ fn a_snapshot_without_read_permission_is_reported_and_skipped_until_chmod() {
     // Readable again: retargeted now, without being written anew.
     chmod(&w.inbox.join("secret.png"), 0o644);
     w.wait_line("secret.png written", |l| l.contains("secret.png ->"));
-    let outbox = w.outbox.clone();
-    let (code, lines, _root) = w.stop();
+    let (code, lines) = w.stop();
+    let outbox = &w.outbox;
     assert_eq!(code, Some(130), "{lines:#?}");
     assert!(!lines.iter().any(|l| l.contains("panicked")), "{lines:#?}");
     assert_eq!(
@@ -290,7 +299,7 @@ fn a_snapshot_without_read_permission_is_reported_and_skipped_until_chmod() {
         "one line for the unreadable file: {lines:#?}"
     );
     assert_eq!(
-        whole_outputs(&outbox),
+        whole_outputs(outbox),
         ["first.png", "next.png", "secret.png"]
     );
 }
@@ -316,8 +325,8 @@ fn an_output_folder_made_read_only_is_reported_per_file_and_watching_goes_on() {
     );
     drop_snapshot(&w.inbox, "next.png", 5);
     w.wait_line("next.png written", |l| l.contains("next.png ->"));
-    let outbox = w.outbox.clone();
-    let (code, lines, _root) = w.stop();
+    let (code, lines) = w.stop();
+    let outbox = &w.outbox;
     assert_eq!(code, Some(130), "{lines:#?}");
     assert!(!lines.iter().any(|l| l.contains("panicked")), "{lines:#?}");
     assert_eq!(
@@ -329,7 +338,7 @@ fn an_output_folder_made_read_only_is_reported_per_file_and_watching_goes_on() {
         lines.last().unwrap().ends_with("; 1 not written"),
         "the summary counts it: {lines:#?}"
     );
-    assert_eq!(whole_outputs(&outbox), ["first.png", "next.png"]);
+    assert_eq!(whole_outputs(outbox), ["first.png", "next.png"]);
     let json = std::fs::read_to_string(stats.path()).unwrap();
     assert_eq!(json.matches("\"written\": false").count(), 1, "{json}");
     let at = json
@@ -356,14 +365,14 @@ fn the_watched_folder_removed_and_recreated_is_reported_and_watched_again() {
     drop_snapshot(&inbox, "next.png", 7);
     w.wait_line("next.png written", |l| l.contains("next.png ->"));
     w.wait_count(2, "first.png written again", |l| l.contains("first.png ->"));
-    let outbox = w.outbox.clone();
-    let (code, lines, _root) = w.stop();
+    let (code, lines) = w.stop();
+    let outbox = &w.outbox;
     assert_eq!(code, Some(130), "{lines:#?}");
     assert!(!lines.iter().any(|l| l.contains("panicked")), "{lines:#?}");
     let folder: Vec<_> = lines.iter().filter(|l| l.contains("folder")).collect();
     assert_eq!(folder.len(), 2, "one line gone, one line back: {lines:#?}");
     assert!(!lines.iter().any(|l| l.contains("vanished")), "{lines:#?}");
-    assert_eq!(whole_outputs(&outbox), ["first.png", "next.png"]);
+    assert_eq!(whole_outputs(outbox), ["first.png", "next.png"]);
 }
 
 #[test]
@@ -383,12 +392,12 @@ fn a_folder_recreated_unseen_is_not_taken_for_the_old_one() {
     w.wait_line("the return report", |l| l.contains("is back"));
     drop_snapshot(&inbox, "next.png", 8);
     w.wait_line("next.png written", |l| l.contains("next.png ->"));
-    let outbox = w.outbox.clone();
-    let (code, lines, _root) = w.stop();
+    let (code, lines) = w.stop();
+    let outbox = &w.outbox;
     assert_eq!(code, Some(130), "{lines:#?}");
     assert!(
         lines.iter().any(|l| l.contains("removed or moved away")),
         "{lines:#?}"
     );
-    assert_eq!(whole_outputs(&outbox), ["first.png", "next.png"]);
+    assert_eq!(whole_outputs(outbox), ["first.png", "next.png"]);
 }
