@@ -1,6 +1,7 @@
 //! The `vizretarget` binary: parse, run, report. Exit codes: 0 done (also when the reader of
 //! stdout went away early), 1 failed (bad input, unwritable output, ...), 2 usage error (from
-//! clap), 130 stopped by Ctrl-C. Every error is one line on stderr.
+//! clap), 128 + the signal when stopped by SIGINT (130, Ctrl-C) or SIGTERM (143). Every error is
+//! one line on stderr.
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -19,7 +20,7 @@ fn main() -> ExitCode {
     };
     match cli::run(args) {
         Ok(cli::Outcome::Done) => ExitCode::SUCCESS,
-        Ok(cli::Outcome::Interrupted) => ExitCode::from(130),
+        Ok(cli::Outcome::Interrupted) => ExitCode::from(cli::interrupted_exit_code()),
         Err(e) => {
             let hint = cli::limit_hint(&e).map_or_else(String::new, |h| format!("; {h}"));
             eprintln!("vizretarget: error: {}{hint}", chain_line(&e));

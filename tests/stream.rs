@@ -424,6 +424,77 @@ fn cancel_stops_reading_and_finishes_the_output() {
     assert!(sink.frames.len() < 20);
 }
 
+/// Frames, then a read that blocks until `release` is set (stdin whose writer went quiet).
+struct GoesQuiet {
+    frames: VecSource,
+    release: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl vizretarget::stream::FrameSource for GoesQuiet {
+    fn next_frame(&mut self) -> Result<Option<Frame>, vizretarget::Error> {
+        if let Some(f) = self.frames.next_frame()? {
+            return Ok(Some(f));
+        }
+        while !self.release.load(std::sync::atomic::Ordering::SeqCst) {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        Ok(None)
+    }
+}
+
+/// Sets the cancel flag once `after` frames are written.
+struct CancelAfter {
+    after: usize,
+    done: std::sync::atomic::AtomicUsize,
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl vizretarget::stream::Progress for CancelAfter {
+    fn frame_done(&self, _stats: &vizretarget::FrameStats) {
+        use std::sync::atomic::Ordering::SeqCst;
+        if self.done.fetch_add(1, SeqCst) + 1 == self.after {
+            self.cancel.store(true, SeqCst);
+        }
+    }
+}
+
+#[test]
+fn cancel_during_a_blocked_read_ends_the_run_with_every_frame_read() {
+    // The library's cancellation path as the CLI's signal handler uses it: the source
+    // detached, the cancel flag set while the source is blocked for good.
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    let size = Size::new(120, 80).unwrap();
+    let release = Arc::new(AtomicBool::new(false));
+    let quiet = GoesQuiet {
+        frames: VecSource::new((0..4).map(|i| Frame::new(scene(size, i, 1), i as u64))),
+        release: release.clone(),
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    let mut source = vizretarget::stream::DetachedSource::new(Box::new(quiet), cancel.clone());
+    let progress = CancelAfter {
+        after: 4,
+        done: Default::default(),
+        cancel: cancel.clone(),
+    };
+    let mut sink = VecSink::default();
+    let s = Pipeline::run(
+        Size::new(60, 80).unwrap(),
+        &Options::default(),
+        &mut source,
+        &mut sink,
+        &progress,
+        &cancel,
+    )
+    .unwrap();
+    release.store(true, std::sync::atomic::Ordering::SeqCst); // the abandoned read may end
+    assert!(s.cancelled, "recorded as cancelled, not as the input's end");
+    assert_eq!(s.frames, 4);
+    let order: Vec<u64> = sink.frames.iter().map(|f| f.frame_index).collect();
+    assert_eq!(order, [0, 1, 2, 3]);
+    assert!(sink.finished, "the sink completes its output");
+}
+
 #[test]
 fn stage_objects_can_move_between_threads() {
     fn sendable<T: Send>() {}

@@ -35,7 +35,7 @@ ends each run.
       on stdout; also --output-format rgba, rgb24 or png).
   vizretarget watch snapshots/ -o phone/ --size 360x640
       Retarget each new or replaced dashboard snapshot as it lands, into phone/ under the same
-      name. Ctrl-C stops.
+      name. Ctrl-C (or SIGTERM) stops.
 
 Vector marks and enhancement (the paper's 5.3 and 5.4):
   vizretarget map.png --marks dots.json --width 400 -o map-narrow.png
@@ -56,8 +56,9 @@ A stream that fails part way (a corrupt frame, a frame past the limit) keeps the
 it in the output and exits with 1.
 
 Exit status: 0 done (also when the reader of stdout closes it early); 1 the input could not be
-read or the output not written; 2 usage error; 130 stopped by Ctrl-C (the first Ctrl-C finishes
-the frames in flight and completes the output, a second one quits at once).";
+read or the output not written; 2 usage error; 130 stopped by SIGINT (Ctrl-C), 143 by SIGTERM
+(during a stream the first signal finishes the frames in flight and completes the output, a
+second one quits at once).";
 
 /// Help text after the options of `watch --help`.
 const WATCH_HELP: &str = "\
@@ -66,15 +67,17 @@ written into OUTDIR under the same name, atomically (a temporary file, then a re
 of OUTDIR never sees half a picture. A snapshot is read only when its writer is done (a
 close-write event, or no change for --settle-ms), never half-written. Snapshots already in DIR
 when watching starts are retargeted first, in natural order of their names. Hidden files and
-other extensions are ignored. A snapshot that vanishes before it is read, or cannot be decoded,
-is reported on stderr and skipped; watching goes on. One line per snapshot on stderr unless
---quiet.
+other extensions are ignored. Faults are reported on stderr, one line naming the file, and
+watching goes on: a snapshot that vanishes before it is read or cannot be decoded is skipped, one
+without read permission until its permissions change, an output that cannot be written (OUTDIR
+read-only) until its snapshot changes; a removed DIR is waited for and watched again when back.
+One line per snapshot on stderr unless --quiet.
 
 Example:
   vizretarget watch snapshots/ -o phone/ --size 360x640 --stats-json phone-stats.json
 
-Exit status: 130 after Ctrl-C (the snapshot in flight is finished first), 1 if DIR cannot be
-watched or OUTDIR not written, 2 usage error.";
+Exit status: 130 after SIGINT (Ctrl-C), 143 after SIGTERM (the snapshot in flight is finished
+first), 1 if DIR cannot be watched or OUTDIR cannot be created, 2 usage error.";
 
 /// Help text after the options of `compare --help`.
 const COMPARE_HELP: &str = "\

@@ -6,7 +6,7 @@
 //! - `watch.rs`: `vizretarget watch DIR -o OUTDIR`.
 //! - `compare.rs`: `vizretarget compare INPUT -o SHEET.png`: every method side by side.
 //! - `marks.rs`: `--marks` and `--enhance*` (vector marks §5.3, content enhancement §5.4).
-//! - `report.rs`: progress bar, summary line, `--stats-json`; `interrupt.rs`: Ctrl-C.
+//! - `report.rs`: progress bar, summary line, `--stats-json`; `interrupt.rs`: SIGINT (Ctrl-C) and SIGTERM.
 
 mod args;
 mod compare;
@@ -27,12 +27,18 @@ use vizretarget::io::{is_std, resolve_output, Destination, OutputChoice};
 /// How a successful run ended.
 pub enum Outcome {
     Done,
-    /// Stopped by Ctrl-C (exit 130).
+    /// Stopped by SIGINT or SIGTERM (exit 128 + the signal: 130, 143).
     Interrupted,
+}
+
+/// The exit code of a run that ended with [`Outcome::Interrupted`].
+pub fn interrupted_exit_code() -> u8 {
+    interrupt::exit_code()
 }
 
 /// Runs the job the arguments ask for.
 pub fn run(cli: Cli) -> Result<Outcome> {
+    interrupt::install()?;
     match &cli.command {
         Some(Command::Watch(w)) => return watch::run(w),
         Some(Command::Compare(c)) => {

@@ -2,9 +2,10 @@
 //! is known), optional lines per frame, a summary line, and `--stats-json`.
 
 use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::HashSet;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use vizretarget::io::{output_name, FrameNames};
 use vizretarget::stream::Progress;
 use vizretarget::{Decision, FrameStats, RunSummary, Size};
@@ -17,6 +18,8 @@ pub struct Reporter {
     per_frame: PerFrame,
     keep: bool,
     frames: Mutex<Vec<(FrameStats, Option<String>)>>,
+    /// Frames whose output could not be written (watch goes on past them).
+    failed: Option<Arc<Mutex<HashSet<u64>>>>,
 }
 
 /// What to print for each frame.
@@ -53,7 +56,22 @@ impl Reporter {
             per_frame,
             keep: keep_stats,
             frames: Mutex::new(Vec::new()),
+            failed: None,
         }
+    }
+
+    /// Frames in `failed` get no `name -> output` line, and `"written": false` in the JSON.
+    pub fn with_failed_writes(mut self, failed: Arc<Mutex<HashSet<u64>>>) -> Reporter {
+        self.failed = Some(failed);
+        self
+    }
+
+    fn write_failed(&self, frame_index: u64) -> bool {
+        self.failed.as_ref().is_some_and(|f| {
+            f.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .contains(&frame_index)
+        })
     }
 
     pub fn finish(&self) {
@@ -79,6 +97,9 @@ impl Reporter {
             s.push_str(&format!("{{\"frame_index\": {}", f.frame_index));
             if let Some(n) = name {
                 s.push_str(&format!(", \"name\": {}", json_string(n)));
+            }
+            if self.write_failed(f.frame_index) {
+                s.push_str(", \"written\": false");
             }
             s.push_str(&format!(
                 ", \"decision\": \"{}\", \"vertices\": {}, \"triangles\": {}, \"dof\": {}, \
@@ -141,7 +162,10 @@ impl Progress for Reporter {
                 t.render_ms
             )),
             PerFrame::Written(dir) => {
-                if let Some(n) = &name {
+                if let Some(n) = name
+                    .as_ref()
+                    .filter(|_| !self.write_failed(stats.frame_index))
+                {
                     self.print(format!(
                         "vizretarget: {n} -> {} ({}, {:.0} ms)",
                         dir.join(output_name(n).0).display(),
@@ -193,11 +217,7 @@ pub fn summary_line(r: &RunSummary, from: Option<Size>, to: Size) -> String {
         t.mesh_ms / n,
         t.solve_ms / n,
         t.render_ms / n,
-        if r.cancelled {
-            " (stopped by Ctrl-C)"
-        } else {
-            ""
-        },
+        if r.cancelled { " (interrupted)" } else { "" },
     )
 }
 

@@ -11,7 +11,7 @@ use vizretarget::io::{
     is_std, open_input_with, open_sink, FrameRate, Input, InputFormat, InputKind, SinkFormat,
     SinkOptions, STDIN_NAME,
 };
-use vizretarget::stream::{Progress, VecSource};
+use vizretarget::stream::{DetachedSource, Progress, VecSource};
 use vizretarget::vector::MarkedSource;
 use vizretarget::{Options, Pipeline, Size};
 
@@ -50,15 +50,26 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         InputArg::Y4m => InputFormat::Y4m,
         InputArg::Png => InputFormat::PngStream,
     };
+    // Until the source is detached below, a signal ends the program at once: nothing has
+    // been written yet, and opening stdin may wait on a writer that sends nothing.
     let mut input =
         open_input_with(input_path, input_format, input_size, &limits).map_err(library_error)?;
     if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {
         let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
         input.source = Box::new(MarkedSource::new(frames, marks));
     }
+    // From here a first signal stops the reading (even a read that is blocked) and the frames
+    // already read are finished and written.
+    let cancel = interrupt::stop_gracefully();
+    let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
+    input.source = Box::new(DetachedSource::new(frames, cancel.clone()));
     // The first frame's size (from the header, else by reading that frame): the target may
     // depend on it, and the memory plan does.
     let from = input.frame_size().map_err(|e| raw_hint(e, &input))?;
+    if from.is_none() && interrupt::interrupted() {
+        eprintln!("vizretarget: stopped before the first frame; nothing written");
+        return Ok(Outcome::Interrupted);
+    }
     let target = match (cli.size, cli.width, cli.height, from) {
         (Some((w, h)), _, _, _) => Size::new(w, h)?,
         (None, Some(w), Some(h), _) => Size::new(w, h)?,
@@ -79,7 +90,6 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         None => bail!("{}: no frames", input_path.display()),
     };
     let mut sink = open_sink(output, format, sink_options)?;
-    let cancel = interrupt::cancel_flag()?;
     let reporter = Reporter::new(
         input.source.len_hint(),
         args.quiet,
@@ -113,9 +123,14 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         input_path
     };
     let summary = match result {
+        // A GIF needs a frame: stopped before the first one, no file is written.
+        Err(vizretarget::Error::NoFrames(_)) if interrupted => {
+            eprintln!("vizretarget: stopped before the first frame; nothing written");
+            return Ok(Outcome::Interrupted);
+        }
         // An empty input (raw stdin, whose size is given, is only found empty here) makes
         // the sink refuse to write nothing: the input is what to name.
-        Err(vizretarget::Error::NoFrames(p)) if p != input_path && !interrupted => {
+        Err(vizretarget::Error::NoFrames(p)) if p != input_path => {
             bail!("{}: no frames", input_name.display())
         }
         r => r.map_err(|e| raw_hint(e, &input)).map_err(library_error)?,

@@ -2,7 +2,7 @@
 //! target, renamed over it on [`AtomicFile::commit`], removed if dropped uncommitted.
 //!
 //! Every temporary file is also listed in a process-wide registry so that a program that must
-//! exit at once (a second Ctrl-C) can still remove them ([`remove_temporary_files`]).
+//! exit at once (a second signal) can still remove them ([`remove_temporary_files`]).
 
 use crate::error::Error;
 use std::fs::File;

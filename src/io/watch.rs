@@ -23,9 +23,14 @@
 //! - **Names.** Only `.png`, `.jpg` and `.jpeg` files (any case) directly in the folder count;
 //!   hidden names (a leading `.`, as atomic writers' temporary files) are ignored. Each
 //!   frame's file name is recorded in [`WatchSource::names`].
-//! - **Vanished files** (deleted before they could be read) and unreadable ones are reported to
-//!   the warning callback, and watching goes on. The library never prints.
-//! - **Stopping**: the cancel flag (Ctrl-C) ends the stream within 100 ms.
+//! - **Faults** are reported to the warning callback and watching goes on; the library never
+//!   prints. A file deleted before it could be read is reported once and skipped. A file that
+//!   cannot be opened (no read permission) is skipped until its permissions or its content
+//!   change (a `chmod` brings it back). The watched folder removed (or moved away) is reported
+//!   once, whether the watcher says so or the path now holds another folder; the source then
+//!   looks for a folder at the same path every 100 ms, watches it when it is back (reported
+//!   too), and reads the snapshots in it as files already there at the start.
+//! - **Stopping**: the cancel flag (SIGINT or SIGTERM in the CLI) ends the stream within 100 ms.
 
 use super::names::FrameNames;
 use super::natural::natural_cmp;
@@ -35,7 +40,7 @@ use crate::retargeter::Frame;
 use crate::stream::FrameSource;
 use notify::event::{AccessKind, AccessMode, ModifyKind, RenameMode};
 use notify::{Event, EventKind, RecursiveMode, Watcher};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
@@ -81,15 +86,26 @@ struct Fingerprint {
 }
 
 fn fingerprint(m: &std::fs::Metadata) -> Fingerprint {
-    #[cfg(unix)]
-    let inode = std::os::unix::fs::MetadataExt::ino(m);
-    #[cfg(not(unix))]
-    let inode = 0;
     Fingerprint {
         len: m.len(),
         mtime: m.modified().ok(),
-        inode,
+        inode: inode(m),
     }
+}
+
+fn inode(m: &std::fs::Metadata) -> u64 {
+    #[cfg(unix)]
+    return std::os::unix::fs::MetadataExt::ino(m);
+    #[cfg(not(unix))]
+    return 0;
+}
+
+/// What, besides the fingerprint, brings a skipped file back: its permissions.
+fn permissions(m: &std::fs::Metadata) -> u32 {
+    #[cfg(unix)]
+    return std::os::unix::fs::PermissionsExt::mode(&m.permissions());
+    #[cfg(not(unix))]
+    return m.permissions().readonly() as u32;
 }
 
 /// What the events say about a file's writer.
@@ -121,11 +137,27 @@ struct Candidate {
 
 /// Frames from the snapshots written into a directory.
 pub struct WatchSource {
+    /// The folder as given (looked for again when it was removed).
+    given: PathBuf,
+    /// The folder, canonical.
     dir: PathBuf,
-    _watcher: notify::RecommendedWatcher,
+    /// The watched folder's inode: another one at the same path is a new folder.
+    dir_inode: u64,
+    /// `None` while the folder is gone.
+    watcher: Option<notify::RecommendedWatcher>,
+    /// The watcher reported the folder itself deleted or moved. Needed besides the inode
+    /// check: a folder recreated at once often gets the freed inode back (ext4), while the
+    /// old watch is dead.
+    folder_gone: bool,
     events: Receiver<notify::Result<Event>>,
     candidates: Vec<Candidate>,
     done: HashMap<PathBuf, Fingerprint>,
+    /// Files that could not be read or decoded, skipped until their fingerprint or
+    /// permissions change.
+    skipped: HashMap<PathBuf, (Fingerprint, u32)>,
+    /// Files reported as vanished: the events that trail a deletion (a close by the writer)
+    /// must not report them again. Forgotten when a file of that name is created.
+    vanished: HashSet<PathBuf>,
     names: FrameNames,
     next_index: u64,
     next_seq: u64,
@@ -156,25 +188,19 @@ impl WatchSource {
         if !meta.is_dir() {
             return Err(Error::decode(dir, "is not a folder: watch needs a folder"));
         }
-        // Events carry absolute paths: compare against the canonical folder.
-        let dir = dir.canonicalize().map_err(|e| Error::io(dir, e))?;
-        let (tx, events) = std::sync::mpsc::channel();
-        let watch_error = |e: notify::Error| {
-            Error::io(
-                &dir,
-                std::io::Error::other(format!("cannot watch the folder: {e}")),
-            )
-        };
-        let mut watcher = notify::recommended_watcher(tx).map_err(watch_error)?;
-        watcher
-            .watch(&dir, RecursiveMode::NonRecursive)
-            .map_err(watch_error)?;
+        let given = dir.to_path_buf();
+        let (dir, dir_inode, watcher, events) = start_watching(dir)?;
         let mut source = WatchSource {
+            given,
             dir,
-            _watcher: watcher,
+            dir_inode,
+            watcher: Some(watcher),
+            folder_gone: false,
             events,
             candidates: Vec::new(),
             done: HashMap::new(),
+            skipped: HashMap::new(),
+            vanished: HashSet::new(),
             names: FrameNames::new(),
             next_index: 0,
             next_seq: 0,
@@ -189,6 +215,50 @@ impl WatchSource {
     /// The folder being watched (canonical).
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// Whether the watched folder is still there (the same folder, not a new one at its path).
+    fn folder_is_there(&self) -> bool {
+        match std::fs::metadata(&self.dir) {
+            Ok(m) => m.is_dir() && inode(&m) == self.dir_inode,
+            Err(_) => false,
+        }
+    }
+
+    /// The folder was removed or moved away: stop watching it, forget its files.
+    fn lose_folder(&mut self) {
+        self.watcher = None;
+        self.folder_gone = false;
+        // A folder at this path later is a new one: all its snapshots are new.
+        self.candidates.clear();
+        self.done.clear();
+        self.skipped.clear();
+        self.vanished.clear();
+        let e = Error::decode(
+            &self.dir,
+            "the watched folder was removed or moved away; waiting for it to come back",
+        );
+        self.warn(e);
+    }
+
+    /// Watches the folder again if one is back at its path; whether it is.
+    fn find_folder(&mut self) -> bool {
+        if !std::fs::metadata(&self.given).is_ok_and(|m| m.is_dir()) {
+            return false;
+        }
+        let Ok((dir, dir_inode, watcher, events)) = start_watching(&self.given) else {
+            return false; // gone again, or not readable yet: look again later
+        };
+        (self.dir, self.dir_inode) = (dir, dir_inode);
+        self.watcher = Some(watcher);
+        self.events = events;
+        let e = Error::decode(&self.dir, "the watched folder is back; watching it again");
+        self.warn(e);
+        // Its snapshots count as files already there at the start.
+        if let Err(e) = self.rescan() {
+            self.warn(e);
+        }
+        true
     }
 
     /// The file name of each frame, by `frame_index`.
@@ -236,9 +306,21 @@ impl WatchSource {
         }
     }
 
-    fn handle(&mut self, event: Event) -> Result<(), Error> {
+    fn handle(&mut self, event: Event) {
+        if event.paths.iter().any(|p| p == &self.dir)
+            && matches!(
+                event.kind,
+                EventKind::Remove(_) | EventKind::Modify(ModifyKind::Name(_))
+            )
+        {
+            self.folder_gone = true;
+            return;
+        }
         if event.need_rescan() {
-            return self.rescan();
+            if let Err(e) = self.rescan() {
+                self.warn(e);
+            }
+            return;
         }
         let paths: Vec<PathBuf> = event
             .paths
@@ -258,6 +340,7 @@ impl WatchSource {
             }
             EventKind::Modify(ModifyKind::Name(RenameMode::To)) => {
                 for p in paths {
+                    self.vanished.remove(&p);
                     self.touch(p, Writer::Closed);
                 }
             }
@@ -265,6 +348,7 @@ impl WatchSource {
                 // paths = [from, to]: the new name arrived complete.
                 if let Some(to) = event.paths.get(1) {
                     if is_snapshot(&self.dir, to) {
+                        self.vanished.remove(to);
                         self.touch(to.clone(), Writer::Closed);
                     }
                 }
@@ -272,18 +356,40 @@ impl WatchSource {
             EventKind::Modify(ModifyKind::Name(_)) | EventKind::Remove(_) => {
                 // Gone (or renamed away): reading it will tell; nothing to do yet.
             }
+            EventKind::Modify(ModifyKind::Metadata(_)) => {
+                // Permissions or times changed, not the content: a file skipped for want of
+                // read permission may be readable now. No writer is known to be at work.
+                for p in paths {
+                    if !self.candidates.iter().any(|c| c.path == p) {
+                        self.touch(p, Writer::Unknown);
+                    }
+                }
+            }
             EventKind::Create(_) | EventKind::Modify(_) => {
                 for p in paths {
+                    if matches!(event.kind, EventKind::Create(_)) {
+                        self.vanished.remove(&p);
+                    }
                     self.touch(p, Writer::Open);
                 }
             }
             _ => {}
         }
-        Ok(())
     }
 
     fn warn(&mut self, e: Error) {
         (self.options.on_warning)(&e);
+    }
+
+    /// Reports a snapshot deleted before it could be read, once.
+    fn report_vanished(&mut self, path: PathBuf) {
+        if !self.vanished.contains(&path) {
+            self.warn(Error::decode(
+                &path,
+                "vanished before it could be read; skipped",
+            ));
+            self.vanished.insert(path);
+        }
     }
 
     /// Reads the first ready candidate, if any; returns how long to wait otherwise.
@@ -311,10 +417,7 @@ impl WatchSource {
                 Err(e) => {
                     let c = self.candidates.remove(i);
                     if e.kind() == std::io::ErrorKind::NotFound {
-                        self.warn(Error::decode(
-                            &c.path,
-                            "vanished before it could be read; skipped",
-                        ));
+                        self.report_vanished(c.path);
                     } else {
                         self.warn(Error::io(&c.path, e));
                     }
@@ -322,8 +425,10 @@ impl WatchSource {
                 }
             };
             let fp = fingerprint(&meta);
-            if self.done.get(&c.path) == Some(&fp) {
-                self.candidates.remove(i); // already read as it is now
+            let mode = permissions(&meta);
+            if self.done.get(&c.path) == Some(&fp) || self.skipped.get(&c.path) == Some(&(fp, mode))
+            {
+                self.candidates.remove(i); // already read (or given up on) as it is now
                 continue;
             }
             if c.seen != Some(fp) {
@@ -372,9 +477,20 @@ impl WatchSource {
                 }
                 Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
                     let c = self.candidates.remove(i);
+                    self.report_vanished(c.path);
+                }
+                Err(Error::Io { source, .. })
+                    if source.kind() == std::io::ErrorKind::PermissionDenied =>
+                {
+                    // Waiting does not help: skip it until it changes (a chmod will do).
+                    let c = self.candidates.remove(i);
+                    self.skipped.insert(c.path.clone(), (fp, mode));
                     self.warn(Error::decode(
                         &c.path,
-                        "vanished before it could be read; skipped",
+                        format!(
+                            "cannot be read ({source}); skipped until its permissions or \
+                             content change"
+                        ),
                     ));
                 }
                 Err(e) => {
@@ -384,7 +500,7 @@ impl WatchSource {
                     c.state = Writer::Unknown;
                     if c.attempts >= MAX_ATTEMPTS {
                         let c = self.candidates.remove(i);
-                        self.done.insert(c.path, fp); // skip until it changes
+                        self.skipped.insert(c.path, (fp, mode)); // until it changes
                         self.warn(e);
                     } else {
                         i += 1;
@@ -396,27 +512,69 @@ impl WatchSource {
     }
 }
 
+/// Watches `dir`: its canonical path (events carry absolute paths), its inode, the watcher
+/// and its events.
+#[allow(clippy::type_complexity)]
+fn start_watching(
+    dir: &Path,
+) -> Result<
+    (
+        PathBuf,
+        u64,
+        notify::RecommendedWatcher,
+        Receiver<notify::Result<Event>>,
+    ),
+    Error,
+> {
+    let dir = dir.canonicalize().map_err(|e| Error::io(dir, e))?;
+    let meta = std::fs::metadata(&dir).map_err(|e| Error::io(&dir, e))?;
+    let (tx, events) = std::sync::mpsc::channel();
+    let watch_error = |e: notify::Error| {
+        Error::io(
+            &dir,
+            std::io::Error::other(format!("cannot watch the folder: {e}")),
+        )
+    };
+    let mut watcher = notify::recommended_watcher(tx).map_err(watch_error)?;
+    watcher
+        .watch(&dir, RecursiveMode::NonRecursive)
+        .map_err(watch_error)?;
+    Ok((dir, inode(&meta), watcher, events))
+}
+
 impl FrameSource for WatchSource {
     fn next_frame(&mut self) -> Result<Option<Frame>, Error> {
         loop {
             if self.options.cancel.load(Ordering::Relaxed) {
                 return Ok(None);
             }
+            if self.watcher.is_none() {
+                // The folder is gone: look for it again every POLL.
+                if !self.find_folder() {
+                    std::thread::sleep(POLL);
+                }
+                continue;
+            }
             while let Ok(event) = self.events.try_recv() {
                 match event {
-                    Ok(ev) => self.handle(ev)?,
+                    Ok(ev) => self.handle(ev),
                     Err(e) => self.warn(Error::io(
                         &self.dir,
                         std::io::Error::other(format!("watch error: {e}")),
                     )),
                 }
             }
+            // After the events: a deleted folder's files are not reported one by one.
+            if self.folder_gone || !self.folder_is_there() {
+                self.lose_folder();
+                continue;
+            }
             let wait = match self.try_ready()? {
                 Ok(frame) => return Ok(Some(frame)),
                 Err(wait) => wait,
             };
             match self.events.recv_timeout(wait.min(POLL)) {
-                Ok(Ok(ev)) => self.handle(ev)?,
+                Ok(Ok(ev)) => self.handle(ev),
                 Ok(Err(e)) => self.warn(Error::io(
                     &self.dir,
                     std::io::Error::other(format!("watch error: {e}")),

@@ -5,11 +5,13 @@
 //! joined by bounded channels, between a [`FrameSource`] thread and a [`FrameSink`] thread.
 //! Both give the same frames (a test checks it).
 
+mod detached;
 mod pipeline;
 pub(crate) mod reuse;
 pub(crate) mod stages;
 mod tiles;
 
+pub use detached::DetachedSource;
 pub use pipeline::{Pipeline, RunSummary};
 pub use reuse::ReuseOptions;
 

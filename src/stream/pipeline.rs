@@ -161,7 +161,14 @@ impl Pipeline {
                             }
                             let frame = match source.next_frame() {
                                 Ok(Some(f)) => f,
-                                Ok(None) => return Ok(()),
+                                Ok(None) => {
+                                    // A source that gives up waiting when cancelled
+                                    // (DetachedSource, a watched folder) ends this way.
+                                    if cancel.load(Ordering::Relaxed) {
+                                        cancelled.store(true, Ordering::Relaxed);
+                                    }
+                                    return Ok(());
+                                }
                                 Err(e) => {
                                     return Err(e);
                                 }
