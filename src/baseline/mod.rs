@@ -6,12 +6,15 @@
 //!   VSM saliency (Fig. 14b);
 //! * [`Method::Grid`]: the uniform-grid scale-and-stretch deformation of Wang et al. 2008, the
 //!   paper's ref. [1] and its Table 1 rival, on the same energy and solver as the mesh;
+//! * [`Method::Axis`]: axis-aligned deformation (Panozzo et al. 2012): one scale per column
+//!   and per row, so lines stay straight and unbroken;
 //! * [`Method::Seam`]: seam carving (Avidan and Shamir 2007) with forward energy (Rubinstein et
 //!   al. 2008), the usual content-aware tool.
 //!
 //! Every method returns exactly the target size, with how each output pixel relates to the
 //! source ([`Mapping`]) so that [`crate::metrics`] can judge them all by the same rules.
 
+mod axis;
 mod crop;
 mod grid;
 mod linear;
@@ -41,16 +44,19 @@ pub enum Method {
     Grid,
     /// Seam carving with forward energy, removing or inserting seams, width then height.
     Seam,
+    /// Axis-aligned deformation (Panozzo et al. 2012): a scale per grid column and per row.
+    Axis,
 }
 
 impl Method {
     /// Every method, the crate's first.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Mesh,
         Method::Linear,
         Method::Crop,
         Method::Grid,
         Method::Seam,
+        Method::Axis,
     ];
 
     /// The lower-case name used on the command line and in tables.
@@ -61,12 +67,13 @@ impl Method {
             Method::Crop => "crop",
             Method::Grid => "grid",
             Method::Seam => "seam",
+            Method::Axis => "axis",
         }
     }
 
     /// Whether the method deforms a triangle mesh (and so has vertices and DOF).
     pub const fn has_mesh(self) -> bool {
-        matches!(self, Method::Mesh | Method::Grid)
+        matches!(self, Method::Mesh | Method::Grid | Method::Axis)
     }
 }
 
@@ -85,7 +92,7 @@ impl std::str::FromStr for Method {
             .find(|m| m.name().eq_ignore_ascii_case(s.trim()))
             .ok_or_else(|| {
                 Error::InvalidOptions(format!(
-                    "unknown method {s:?}: allowed mesh, linear, crop, grid, seam"
+                    "unknown method {s:?}: allowed mesh, linear, crop, grid, seam, axis"
                 ))
             })
     }
@@ -154,6 +161,7 @@ pub fn retarget_with(
         Method::Crop => Ok(crop::run(image, target)),
         Method::Grid => grid::run(image, target, options),
         Method::Seam => Ok(seam::run(image, target)),
+        Method::Axis => axis::run(image, target, options),
     }
 }
 

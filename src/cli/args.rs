@@ -83,8 +83,8 @@ first), 1 if DIR cannot be watched or OUTDIR cannot be created, 2 usage error.";
 const COMPARE_HELP: &str = "\
 The sheet shows, left to right and wrapping into rows on wide inputs: the original, mesh
 (vizretarget), linear scaling, crop (the most salient window at the scale that covers the
-target), grid (the same energy on a uniform grid, Wang et al. 2008) and seam carving (forward
-energy). Each panel is labelled with its method and size. Panels keep their relative sizes.
+target), grid (the same energy on a uniform grid, Wang et al. 2008), seam carving (forward
+energy) and axis (axis-aligned deformation, Panozzo et al. 2012). Each panel is labelled with its method and size. Panels keep their relative sizes.
 
 The table on stdout has one row per method: sal.mean, the mean saliency of the output's own
 saliency map (the paper's Fig. 15); sal.kept, the output's total saliency over the source's;
@@ -170,7 +170,9 @@ pub struct Cli {
     /// Resizing method, for one picture: mesh (vizretarget's adaptive mesh, the default);
     /// linear (plain scaling); crop (scale to cover, keep the most salient window); grid (the
     /// same deformation on a uniform grid, Wang et al. 2008); seam (seam carving with forward
-    /// energy). `vizretarget compare` shows them side by side. Streams use mesh.
+    /// energy); axis (axis-aligned deformation, Panozzo et al. 2012: a scale per column and
+    /// per row, so every line stays straight and whole). `vizretarget compare` shows them side
+    /// by side. Streams use mesh.
     #[arg(long, value_name = "METHOD", value_enum, default_value_t = MethodArg::Mesh)]
     pub method: MethodArg,
 
@@ -507,6 +509,7 @@ pub enum MethodArg {
     Crop,
     Grid,
     Seam,
+    Axis,
 }
 
 impl From<MethodArg> for vizretarget::Method {
@@ -517,6 +520,7 @@ impl From<MethodArg> for vizretarget::Method {
             MethodArg::Crop => vizretarget::Method::Crop,
             MethodArg::Grid => vizretarget::Method::Grid,
             MethodArg::Seam => vizretarget::Method::Seam,
+            MethodArg::Axis => vizretarget::Method::Axis,
         }
     }
 }

@@ -51,6 +51,40 @@ impl Warp {
         }
     }
 
+    /// A warp that maps each vertex `(x, y)` of `mesh` to `(fx(x), fy(y))`: axis-aligned, so
+    /// with `fx`, `fy` increasing it never folds ([`crate::baseline`]'s axis-aligned method).
+    /// Positions are put on the renderer's grid; each triangle's scale is its area ratio's root.
+    pub(crate) fn separable(
+        mesh: &Mesh,
+        target: Size,
+        fx: impl Fn(f64) -> f64,
+        fy: impl Fn(f64) -> f64,
+    ) -> Warp {
+        let positions: Vec<DVec2> = mesh
+            .vertices()
+            .iter()
+            .map(|p| DVec2::new(snap(fx(p.x)), snap(fy(p.y))))
+            .collect();
+        let scales = (0..mesh.triangles().len())
+            .map(|t| {
+                let [a, b, c] = mesh.triangles()[t].map(|v| positions[v as usize]);
+                let [p, q, r] = mesh.triangle_points(t);
+                let before = (q - p).perp_dot(r - p);
+                let after = (b - a).perp_dot(c - a);
+                if before > 0.0 {
+                    (after / before).max(0.0).sqrt()
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        Warp {
+            target,
+            positions,
+            scales,
+        }
+    }
+
     /// The target canvas.
     pub fn target(&self) -> Size {
         self.target
