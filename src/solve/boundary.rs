@@ -15,6 +15,7 @@
 
 use crate::image::Size;
 use crate::mesh::Mesh;
+use crate::structure::TextBlock;
 use glam::DVec2;
 
 /// Marks an absent unknown.
@@ -119,6 +120,34 @@ fn joined_lines(
     group
 }
 
+/// For each text block, the index of the first block of its row: blocks on one line of text
+/// (legend entries, the tick labels of an axis, a title and its unit) whose tops and bottoms
+/// agree within a quarter of the glyph height. A row moves up and down as one and keeps one
+/// scale, so its entries stay aligned and alike.
+pub(crate) fn text_rows(text: &[TextBlock]) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..text.len()).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for i in 0..text.len() {
+        for j in i + 1..text.len() {
+            let (a, b) = (&text[i], &text[j]);
+            let lh = a.line_height.min(b.line_height) as f64;
+            let tol = (0.25 * lh).max(2.0);
+            if (a.y0 as f64 - b.y0 as f64).abs() <= tol && (a.y1 as f64 - b.y1 as f64).abs() <= tol
+            {
+                let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    (0..text.len()).map(|i| find(&mut parent, i)).collect()
+}
+
 /// Which unknowns each vertex coordinate and each triangle scale are.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Layout {
@@ -170,6 +199,8 @@ impl Layout {
             ),
             None => (Vec::new(), Vec::new()),
         };
+        let rows = mesh.structure().map_or(Vec::new(), |s| text_rows(&s.text));
+        let mut row_vars: std::collections::HashMap<usize, [u32; 2]> = Default::default();
         let mut hpos: std::collections::HashMap<usize, u32> = Default::default();
         let mut vpos: std::collections::HashMap<usize, u32> = Default::default();
         let n_blocks = mesh.structure().map_or(0, |s| s.text.len());
@@ -213,10 +244,13 @@ impl Layout {
             let x = if b.fixes_x() {
                 Coord::fixed(if p.x >= w { tw } else { 0.0 })
             } else if let Some(k) = block {
-                let bl = &mut l.blocks[k];
-                if bl[0] == FIXED {
-                    *bl = [fresh(), fresh(), fresh()];
+                if l.blocks[k][0] == FIXED {
+                    // Blocks of one row share their vertical place and scale.
+                    let g = rows[k];
+                    let [ty, s] = *row_vars.entry(g).or_insert_with(|| [fresh(), fresh()]);
+                    l.blocks[k] = [fresh(), ty, s];
                 }
+                let bl = l.blocks[k];
                 Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x))
             } else if let Some(k) = role.vline {
                 let group = st_v[k as usize];
