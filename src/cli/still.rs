@@ -83,7 +83,7 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
     eprintln!(
         "{}: {} -> {}: {} vertices, {} triangles, DOF {}, {} unknowns; \
          vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
-         folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}",
+         folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}{}",
         input.display(),
         from,
         out.image.size(),
@@ -104,6 +104,11 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
             " (global)"
         } else {
             ""
+        },
+        if s.solve.fans_held {
+            ""
+        } else {
+            "; marks' fans not held rigid (they left folds)"
         },
     );
 }

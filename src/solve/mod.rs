@@ -132,6 +132,8 @@ pub struct SolveStats {
     pub repair_rounds: usize,
     /// Vertices moved by local untangling.
     pub untangled: usize,
+    /// Whether the marks' fans were held rigid (false: given up to avoid a global blend).
+    pub fans_held: bool,
     /// Blend factor towards linear scaling (0: none was needed).
     pub blend: f64,
     /// Whether the blend had to be global.
@@ -227,28 +229,43 @@ impl Solver {
         vsm: &Vsm,
         target: Size,
     ) -> Result<(Warp, SolveStats), Error> {
-        weights::triangle_saliency(mesh, vsm, &mut self.lambda);
         let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
         self.text_targets = mesh.structure().map_or(Vec::new(), |s| {
             fit::text_fit_scales(&s.text, mesh.size(), target)
         });
-        let layout = Layout::new(mesh, target);
         self.anchors.clear();
-        let Outcome {
-            mut positions,
-            scales,
-            mut stats,
-            folded: bad,
-        } = self.solve_with(mesh, layout, fit)?;
-        if !bad.is_empty() {
-            let vt = repair::VertexTriangles::new(mesh);
-            stats.untangled =
-                repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut positions);
-            let linear = linear_positions(mesh, target);
-            let (blend, global) = repair::blend_towards_linear(mesh, &vt, &linear, &mut positions);
-            stats.blend = blend;
-            stats.blend_global = global;
-        }
+        // Marks' fans held rigid first; where that leaves folds only a blend of the whole warp
+        // towards linear scaling would undo (crowded layouts where rigid fans, lines and text
+        // blocks leave the ground between them no room), solved again with fans weighted by
+        // their saliency alone: a blurred, shifted warp costs every line and label, a fan
+        // held less firmly only its mark's roundness.
+        let mut hold_fans = true;
+        let (positions, scales, stats) = loop {
+            weights::triangle_saliency(mesh, vsm, hold_fans, &mut self.lambda);
+            let layout = Layout::new(mesh, target);
+            let Outcome {
+                mut positions,
+                scales,
+                mut stats,
+                folded: bad,
+            } = self.solve_with(mesh, layout, fit)?;
+            if !bad.is_empty() {
+                let vt = repair::VertexTriangles::new(mesh);
+                stats.untangled =
+                    repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut positions);
+                let linear = linear_positions(mesh, target);
+                let (blend, global) =
+                    repair::blend_towards_linear(mesh, &vt, &linear, &mut positions);
+                stats.blend = blend;
+                stats.blend_global = global;
+                if global && hold_fans && mesh.fan_triangles().contains(&true) {
+                    hold_fans = false;
+                    continue;
+                }
+            }
+            stats.fans_held = hold_fans;
+            break (positions, scales, stats);
+        };
         let warp = Warp {
             target,
             positions,
@@ -279,7 +296,7 @@ impl Solver {
         anchors: &[Option<(DVec2, f64)>],
         salient_scale: f64,
     ) -> Result<Option<(Warp, SolveStats)>, Error> {
-        weights::triangle_saliency(mesh, vsm, &mut self.lambda);
+        weights::triangle_saliency(mesh, vsm, true, &mut self.lambda);
         self.anchors.clear();
         self.anchors.extend_from_slice(anchors);
         let layout = Layout::with_fixed(mesh, target, fixed);

@@ -6,8 +6,8 @@ use crate::raster::{rasterize, FixedPoint};
 use crate::saliency::Vsm;
 
 /// `λ_t` for every triangle of `mesh`, into `out`. A triangle too small to hold a pixel centre
-/// takes the value at its centroid; a mark's fan triangle is fully salient.
-pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, out: &mut Vec<f64>) {
+/// takes the value at its centroid; with `hold_fans`, a mark's fan triangle is fully salient.
+pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &mut Vec<f64>) {
     let grid = vsm.grid_size();
     let (w, h) = (grid.width, grid.height);
     let inv = 1.0 / vsm.scale() as f64;
@@ -37,9 +37,11 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, out: &mut Vec<f64>) {
     // A mark's fan is the mark (§5.3: its footprint counts as salient): the ground between
     // the mark and its ring would otherwise dilute the fan's weight, and a lightly held fan
     // is squeezed with the ground around it.
-    for (l, fan) in out.iter_mut().zip(mesh.fan_triangles()) {
-        if fan {
-            *l = l.max(1.0);
+    if hold_fans {
+        for (l, fan) in out.iter_mut().zip(mesh.fan_triangles()) {
+            if fan {
+                *l = l.max(1.0);
+            }
         }
     }
 }
