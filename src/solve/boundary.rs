@@ -120,9 +120,10 @@ fn joined_lines(
     group
 }
 
-/// For each text block, the index of the first block of its row: blocks on one line of text
-/// (legend entries, the tick labels of an axis, a title and its unit) whose tops and bottoms
-/// agree within a quarter of the glyph height. A row moves up and down as one and keeps one
+/// For each text block, the index of the first block of its row: one-line blocks on one line
+/// of text (legend entries, the tick labels of an axis, the cells of a table row) whose
+/// glyph heights agree within 40 % and whose middles within 30 % of a glyph height (digits
+/// and words with descenders still meet). A row moves up and down as one and keeps one
 /// scale, so its entries stay aligned and alike.
 pub(crate) fn text_rows(text: &[TextBlock]) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..text.len()).collect();
@@ -136,9 +137,13 @@ pub(crate) fn text_rows(text: &[TextBlock]) -> Vec<usize> {
     for i in 0..text.len() {
         for j in i + 1..text.len() {
             let (a, b) = (&text[i], &text[j]);
-            let lh = a.line_height.min(b.line_height) as f64;
-            let tol = (0.25 * lh).max(2.0);
-            if (a.y0 as f64 - b.y0 as f64).abs() <= tol && (a.y1 as f64 - b.y1 as f64).abs() <= tol
+            let (la, lb) = (a.line_height.max(1) as f64, b.line_height.max(1) as f64);
+            let single = |t: &TextBlock, lh: f64| ((t.y1 - t.y0) as f64) <= 1.6 * lh;
+            let centre = |t: &TextBlock| (t.y0 + t.y1) as f64 / 2.0;
+            if single(a, la)
+                && single(b, lb)
+                && la.max(lb) <= 1.4 * la.min(lb)
+                && (centre(a) - centre(b)).abs() <= (0.3 * la.min(lb)).max(1.5)
             {
                 let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
                 parent[ri.max(rj)] = ri.min(rj);
