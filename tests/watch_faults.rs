@@ -15,6 +15,9 @@
 
 #![cfg(unix)]
 
+mod common;
+
+use common::snapshot;
 use std::io::{BufRead, BufReader, Write};
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
@@ -24,25 +27,6 @@ use std::time::{Duration, Instant};
 
 /// How long anything may take before the test fails instead of hanging.
 const GUARD: Duration = Duration::from_secs(60);
-
-/// A small chart; `i` moves the dot and colours the band.
-fn snapshot(i: usize) -> Vec<u8> {
-    let img = image::RgbImage::from_fn(96, 64, |x, y| {
-        let (dx, dy) = (x as i32 - 20 - (i % 50) as i32, y as i32 - 36);
-        if y < 8 {
-            image::Rgb([(i * 37 % 256) as u8, (i * 91 % 256) as u8, 120])
-        } else if dx * dx + dy * dy <= 36 {
-            image::Rgb([214, 39, 40])
-        } else if x == 4 || y == 60 {
-            image::Rgb([90, 90, 90])
-        } else {
-            image::Rgb([255, 255, 255])
-        }
-    });
-    let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
-    out.into_inner()
-}
 
 /// Drops snapshot `i` into `dir` as `name`, whole at once (hidden temporary file, rename), the
 /// way exporters do: the watcher reads it promptly.

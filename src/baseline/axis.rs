@@ -21,16 +21,14 @@
 //! dense quadratic programme (a few hundred unknowns), solved by equality-constrained least
 //! squares with an active set for the bounds.
 
-use super::{ms_since, Mapping, MethodOutput, MethodStats};
+use super::{ms_since, MethodOutput};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::Mesh;
-use crate::render::Renderer;
 use crate::retargeter::{Options, StageTimes};
 use crate::saliency::{Vsm, VsmBuilder};
 use crate::solve::Warp;
 use crate::structure::Structure;
-use std::sync::Arc;
 use std::time::Instant;
 
 /// Weight of a cell without content (keeps the system definite, lets the ground give way).
@@ -54,26 +52,15 @@ pub(super) fn run(image: &Image, target: Size, options: &Options) -> Result<Meth
     let t = Instant::now();
     let warp = solve(&mesh, &vsm, &structure, target);
     times.solve_ms = ms_since(t);
-    let t = Instant::now();
-    let mut out = Image::new(target);
-    Renderer::new().render(image.as_ref(), &mesh, &warp, &mut out);
-    times.render_ms = ms_since(t);
-    Ok(MethodOutput {
-        method: super::Method::Axis,
-        image: out,
-        stats: MethodStats {
-            vertices: Some(mesh.vertices().len()),
-            triangles: Some(mesh.triangles().len()),
-            dof: Some(mesh.dof()),
-            folds_first_solve: Some(0),
-            times,
-        },
-        mapping: Mapping::Warp {
-            mesh: Arc::new(mesh),
-            warp: Arc::new(warp),
-        },
-        vsm: Some(Arc::new(vsm)),
-    })
+    Ok(super::lattice_output(
+        super::Method::Axis,
+        image,
+        mesh,
+        warp,
+        vsm,
+        times,
+        0,
+    ))
 }
 
 /// The separable warp of `mesh` (a lattice) to `target`.
@@ -306,7 +293,7 @@ fn mapping<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::image::Image;
+    use crate::baseline::Mapping;
 
     /// A frame of 1-px lines and a text-like block on white: every horizontal and vertical line
     /// of the output is still one straight unbroken row or column, the output exactly the

@@ -2,15 +2,13 @@
 //! regular lattice of `α`-px cells, with the same VSM, energy, solver, fold repair and renderer
 //! as the mesh. Only the mesh differs, which is what the paper's Table 1 compares.
 
-use super::{ms_since, Mapping, MethodOutput, MethodStats};
+use super::{ms_since, MethodOutput};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::Mesh;
-use crate::render::Renderer;
 use crate::retargeter::{Options, StageTimes};
 use crate::saliency::VsmBuilder;
 use crate::solve::Solver;
-use std::sync::Arc;
 use std::time::Instant;
 
 pub(super) fn run(image: &Image, target: Size, options: &Options) -> Result<MethodOutput, Error> {
@@ -24,24 +22,13 @@ pub(super) fn run(image: &Image, target: Size, options: &Options) -> Result<Meth
     let t = Instant::now();
     let (warp, solve) = Solver::new(options.energy.clone()).solve(&mesh, &vsm, target)?;
     times.solve_ms = ms_since(t);
-    let t = Instant::now();
-    let mut out = Image::new(target);
-    Renderer::new().render(image.as_ref(), &mesh, &warp, &mut out);
-    times.render_ms = ms_since(t);
-    Ok(MethodOutput {
-        method: super::Method::Grid,
-        image: out,
-        stats: MethodStats {
-            vertices: Some(mesh.vertices().len()),
-            triangles: Some(mesh.triangles().len()),
-            dof: Some(mesh.dof()),
-            folds_first_solve: Some(solve.folds_first_solve),
-            times,
-        },
-        mapping: Mapping::Warp {
-            mesh: Arc::new(mesh),
-            warp: Arc::new(warp),
-        },
-        vsm: Some(Arc::new(vsm)),
-    })
+    Ok(super::lattice_output(
+        super::Method::Grid,
+        image,
+        mesh,
+        warp,
+        vsm,
+        times,
+        solve.folds_first_solve,
+    ))
 }

@@ -194,6 +194,39 @@ pub fn resize_linear(src: crate::image::ImageRef<'_>, target: Size) -> Image {
     linear::resize(src, target)
 }
 
+/// Renders `image` through `mesh` and `warp` (timed into `times.render_ms`) and packs the
+/// result of a method that deforms a lattice (grid, axis).
+fn lattice_output(
+    method: Method,
+    image: &Image,
+    mesh: Mesh,
+    warp: Warp,
+    vsm: Vsm,
+    mut times: StageTimes,
+    folds_first_solve: usize,
+) -> MethodOutput {
+    let t = std::time::Instant::now();
+    let mut out = Image::new(warp.target());
+    crate::render::Renderer::new().render(image.as_ref(), &mesh, &warp, &mut out);
+    times.render_ms = ms_since(t);
+    MethodOutput {
+        method,
+        image: out,
+        stats: MethodStats {
+            vertices: Some(mesh.vertices().len()),
+            triangles: Some(mesh.triangles().len()),
+            dof: Some(mesh.dof()),
+            folds_first_solve: Some(folds_first_solve),
+            times,
+        },
+        mapping: Mapping::Warp {
+            mesh: Arc::new(mesh),
+            warp: Arc::new(warp),
+        },
+        vsm: Some(Arc::new(vsm)),
+    }
+}
+
 /// Milliseconds since `t`.
 fn ms_since(t: std::time::Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
