@@ -145,32 +145,38 @@ impl<R: Read + Send> Y4mSource<R> {
                 "truncated YUV4MPEG2 header: the stream ends before its first line does",
             ));
         }
-        let header = String::from_utf8_lossy(&line[9..line.len() - 1]).into_owned();
+        // Parsed as bytes: a parameter's tag is one byte and its value runs to the next space,
+        // whatever bytes it holds (an `X` comment may hold anything). Tokens of a lossily
+        // decoded string were once split after their first byte, which panicked when that
+        // byte began a multi-byte character (found by fuzzing).
+        let header = &line[9..line.len() - 1];
         let (mut w, mut h, mut chroma, mut rate) = (None, None, Chroma::C420, None);
-        for token in header.split_ascii_whitespace() {
-            // By character: a byte that is not UTF-8 became a 3-byte U+FFFD above.
-            let tag_len = token.chars().next().map_or(0, char::len_utf8);
-            let (tag, value) = token.split_at(tag_len);
+        for token in header.split(|b| b.is_ascii_whitespace()) {
+            let Some((&tag, value)) = token.split_first() else {
+                continue;
+            };
+            let text = std::str::from_utf8(value).ok();
             match tag {
-                "W" => w = value.parse::<u32>().ok(),
-                "H" => h = value.parse::<u32>().ok(),
-                "F" => {
-                    rate = value
-                        .split_once(':')
+                b'W' => w = text.and_then(|v| v.parse::<u32>().ok()),
+                b'H' => h = text.and_then(|v| v.parse::<u32>().ok()),
+                b'F' => {
+                    rate = text
+                        .and_then(|v| v.split_once(':'))
                         .and_then(|(n, d)| FrameRate::new(n.parse().ok()?, d.parse().ok()?))
                 }
-                "C" => {
+                b'C' => {
                     chroma = match value {
-                        "420jpeg" | "420mpeg2" | "420paldv" | "420" => Chroma::C420,
-                        "422" => Chroma::C422,
-                        "444" => Chroma::C444,
-                        "mono" => Chroma::Mono,
+                        b"420jpeg" | b"420mpeg2" | b"420paldv" | b"420" => Chroma::C420,
+                        b"422" => Chroma::C422,
+                        b"444" => Chroma::C444,
+                        b"mono" => Chroma::Mono,
                         other => {
                             return Err(Error::decode(
                                 &name,
                                 format!(
-                                    "unsupported YUV4MPEG2 colour space C{other}: 8-bit 420, \
-                                     422, 444 or mono only (ffmpeg: -pix_fmt yuv420p)"
+                                    "unsupported YUV4MPEG2 colour space C{}: 8-bit 420, \
+                                     422, 444 or mono only (ffmpeg: -pix_fmt yuv420p)",
+                                    String::from_utf8_lossy(other).escape_debug()
                                 ),
                             ))
                         }
