@@ -98,6 +98,9 @@ pub struct Mesh {
     /// `neighbours[t][i]`: the triangle across the edge opposite vertex `i`, or [`NONE`].
     neighbours: Vec<[u32; 3]>,
     marks: Vec<Mark>,
+    /// [`Mesh::mark_hubs`] and [`Mesh::fan_triangles`], fixed with the topology.
+    hubs: Vec<(u32, f64)>,
+    fans: Vec<bool>,
     roles: Vec<Role>,
     structure: Option<std::sync::Arc<Structure>>,
 }
@@ -166,6 +169,8 @@ impl Mesh {
     ) -> Mesh {
         let boundary = vertices.iter().map(|&p| Boundary::of(p, size)).collect();
         let neighbours = triangulate::neighbours(&triangles, vertices.len());
+        let hubs = hubs_of(&marks, &vertices);
+        let fans = fans_of(&hubs, &vertices, &triangles);
         Mesh {
             size,
             vertices,
@@ -174,6 +179,8 @@ impl Mesh {
             triangles,
             neighbours,
             marks,
+            hubs,
+            fans,
             roles: Vec::new(),
             structure: None,
         }
@@ -242,49 +249,15 @@ impl Mesh {
 
     /// The hub of each ringed mark: `(vertex at its centre, ring radius)`. A mark whose centre
     /// is no vertex (it lost its ring to the budget, or text took it) has none.
-    pub fn mark_hubs(&self) -> Vec<(u32, f64)> {
-        if self.marks.is_empty() {
-            return Vec::new();
-        }
-        let radius: std::collections::HashMap<(u64, u64), f64> = self
-            .marks
-            .iter()
-            .map(|m| {
-                let key = (snap(m.center.x).to_bits(), snap(m.center.y).to_bits());
-                (key, m.ring_radius)
-            })
-            .collect();
-        self.vertices
-            .iter()
-            .enumerate()
-            .filter_map(|(i, p)| {
-                radius
-                    .get(&(p.x.to_bits(), p.y.to_bits()))
-                    .map(|&r| (i as u32, r))
-            })
-            .collect()
+    pub fn mark_hubs(&self) -> &[(u32, f64)] {
+        &self.hubs
     }
 
     /// Per triangle, whether it belongs to a mark's fan: one corner is a hub of
     /// [`Mesh::mark_hubs`] and the other two lie on (or inside) its ring. Those triangles are
     /// the mark: the solver holds them to a similarity, the renderer may copy them rigidly.
-    pub fn fan_triangles(&self) -> Vec<bool> {
-        let mut out = vec![false; self.triangles.len()];
-        let hubs = self.mark_hubs();
-        if hubs.is_empty() {
-            return out;
-        }
-        let radius: std::collections::HashMap<u32, f64> = hubs.into_iter().collect();
-        for (t, tri) in self.triangles.iter().enumerate() {
-            out[t] = tri.iter().any(|h| {
-                radius.get(h).is_some_and(|&r| {
-                    let c = self.vertices[*h as usize];
-                    tri.iter()
-                        .all(|&v| self.vertices[v as usize].distance(c) <= r * 1.01 + 0.01)
-                })
-            });
-        }
-        out
+    pub fn fan_triangles(&self) -> &[bool] {
+        &self.fans
     }
 
     /// Number of free vertex coordinates once the boundary constraints hold: the paper's DOF.
@@ -304,6 +277,49 @@ impl Mesh {
             self.vertices[c as usize],
         ]
     }
+}
+
+/// The vertices at the (snapped) centres of `marks`, with their ring radii.
+fn hubs_of(marks: &[Mark], vertices: &[DVec2]) -> Vec<(u32, f64)> {
+    if marks.is_empty() {
+        return Vec::new();
+    }
+    let radius: std::collections::HashMap<(u64, u64), f64> = marks
+        .iter()
+        .map(|m| {
+            let key = (snap(m.center.x).to_bits(), snap(m.center.y).to_bits());
+            (key, m.ring_radius)
+        })
+        .collect();
+    vertices
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| {
+            radius
+                .get(&(p.x.to_bits(), p.y.to_bits()))
+                .map(|&r| (i as u32, r))
+        })
+        .collect()
+}
+
+/// Per triangle, whether a corner is a hub and the other corners lie within its ring.
+fn fans_of(hubs: &[(u32, f64)], vertices: &[DVec2], triangles: &[[u32; 3]]) -> Vec<bool> {
+    if hubs.is_empty() {
+        return vec![false; triangles.len()];
+    }
+    let radius: std::collections::HashMap<u32, f64> = hubs.iter().copied().collect();
+    triangles
+        .iter()
+        .map(|tri| {
+            tri.iter().any(|h| {
+                radius.get(h).is_some_and(|&r| {
+                    let c = vertices[*h as usize];
+                    tri.iter()
+                        .all(|&v| vertices[v as usize].distance(c) <= r * 1.01 + 0.01)
+                })
+            })
+        })
+        .collect()
 }
 
 /// Twice the signed area of a triangle: positive for the mesh's orientation.

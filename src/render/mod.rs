@@ -409,8 +409,8 @@ fn on_structure(mesh: &Mesh, tri: &[u32; 3]) -> bool {
 /// to output that its fan is copied with (the rounded displacement of the centre).
 fn rigid_offsets(mesh: &Mesh, warp: &Warp) -> std::collections::HashMap<u32, (i64, i64)> {
     mesh.mark_hubs()
-        .into_iter()
-        .map(|(i, _)| {
+        .iter()
+        .map(|&(i, _)| {
             let d = warp.positions()[i as usize] - mesh.vertices()[i as usize];
             (i, (d.x.round() as i64, d.y.round() as i64))
         })

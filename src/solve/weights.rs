@@ -38,7 +38,7 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &m
     // the mark and its ring would otherwise dilute the fan's weight, and a lightly held fan
     // is squeezed with the ground around it.
     if hold_fans {
-        for (l, fan) in out.iter_mut().zip(mesh.fan_triangles()) {
+        for (l, &fan) in out.iter_mut().zip(mesh.fan_triangles()) {
             if fan {
                 *l = l.max(1.0);
             }
