@@ -38,13 +38,14 @@ pub(crate) fn changed_saliency(
     now: &Vsm,
     options: &ReuseOptions,
     ignore: &[[f64; 4]],
+    scratch: &mut Vec<bool>,
 ) -> TileMask {
     let size = now.size();
     let mut mask = TileMask::new(size, options.tile_px);
     let s = now.scale();
     let grid = now.grid_size();
     let (gw, gh) = (grid.width as usize, grid.height as usize);
-    let ignored = ignored_cells(ignore, s, gw, gh);
+    let ignored = ignored_cells(ignore, s, gw, gh, scratch);
     let cells = (options.tile_px / s).max(1) as usize;
     let (a, b) = (reference.values(), now.values());
     for row in 0..mask.rows() as usize {
@@ -62,7 +63,7 @@ pub(crate) fn changed_saliency(
                 if ra == rb {
                     continue;
                 }
-                match &ignored {
+                match ignored {
                     None => sum += ra.iter().zip(rb).map(|(p, q)| (p - q).abs()).sum::<f32>(),
                     Some(ig) => {
                         let skip = &ig[y * gw + x0..y * gw + x1];
@@ -85,14 +86,21 @@ pub(crate) fn changed_saliency(
     mask
 }
 
-/// One flag per map cell (`gw × gh`, `s` px each) that meets a rectangle of `rects`, or `None`
-/// without rectangles.
-fn ignored_cells(rects: &[[f64; 4]], s: u32, gw: usize, gh: usize) -> Option<Vec<bool>> {
+/// One flag per map cell (`gw × gh`, `s` px each) that meets a rectangle of `rects`, written
+/// into `out`, or `None` without rectangles.
+fn ignored_cells<'a>(
+    rects: &[[f64; 4]],
+    s: u32,
+    gw: usize,
+    gh: usize,
+    out: &'a mut Vec<bool>,
+) -> Option<&'a [bool]> {
     if rects.is_empty() {
         return None;
     }
     let s = s as f64;
-    let mut out = vec![false; gw * gh];
+    out.clear();
+    out.resize(gw * gh, false);
     for &[x0, y0, x1, y1] in rects {
         let cx0 = (x0 / s).floor().max(0.0) as usize;
         let cy0 = (y0 / s).floor().max(0.0) as usize;

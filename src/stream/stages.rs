@@ -119,6 +119,8 @@ pub(crate) struct MeshStage {
     rings: Vec<Mark>,
     /// This frame's small marks that the mesh does not ring.
     floating: Arc<Vec<Mark>>,
+    /// Scratch: the map cells the reuse decision leaves out (around small marks).
+    ignored: Vec<bool>,
 }
 
 /// What the mesh stage hands on.
@@ -146,6 +148,7 @@ impl MeshStage {
             points: Vec::new(),
             rings: Vec::new(),
             floating: Arc::default(),
+            ignored: Vec::new(),
         }
     }
 
@@ -205,6 +208,7 @@ impl MeshStage {
                 vsm,
                 &self.reuse,
                 &ignore,
+                &mut self.ignored,
             );
             if changed.is_empty() {
                 self.floating = Arc::new(unringed(current, self.mesh.as_ref().expect("have")));
