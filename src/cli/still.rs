@@ -59,8 +59,10 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
 fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let a = out.analysis.as_ref().context("analysis was not kept")?;
+    let structure = a.mesh.structure().cloned().unwrap_or_default();
     let pictures = [
         ("vsm.png", debug::vsm_image(&a.vsm)),
+        ("structure.png", debug::structure_overlay(input, &structure)),
         ("levels.png", debug::levels_image(&a.vsm)),
         (
             "mesh-before.png",
@@ -74,7 +76,25 @@ fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Resu
     for (name, img) in pictures {
         write_still(&img, &dir.join(name), OutputFormat::Png)?;
     }
+    let path = dir.join("structure.json");
+    std::fs::write(&path, structure_json(&structure).to_string())
+        .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
+}
+
+/// The detected structure as JSON: lines as `[pos, from, to, width]`, text blocks as
+/// `[x0, y0, x1, y1, line_height]`, in input pixels.
+fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
+    let lines = |v: &[vizretarget::structure::Line]| -> Vec<serde_json::Value> {
+        v.iter()
+            .map(|l| serde_json::json!([l.pos, l.from, l.to, l.width]))
+            .collect()
+    };
+    serde_json::json!({
+        "horizontal": lines(&s.horizontal),
+        "vertical": lines(&s.vertical),
+        "text": s.text.iter().map(|b| serde_json::json!([b.x0, b.y0, b.x1, b.y1, b.line_height])).collect::<Vec<_>>(),
+    })
 }
 
 fn print_stats(input: &Path, from: Size, out: &Retargeted) {

@@ -301,11 +301,16 @@ impl Renderer {
     }
 }
 
+/// Pixels copied on each side of a thin line with it: its antialiased rim and the ground just
+/// beyond, which a squeezed neighbourhood would otherwise smear into each other.
+const LINE_HALO_PX: i64 = 2;
+
 /// Redraws the structure's thin lines (1–3 px rules, frames, grid lines) pixel for pixel along
-/// their warped course: a line shrunk across its width would otherwise be averaged with what
-/// lies beside it (a 1-px rule at half width would become a 50 % grey smear). The solver has
-/// put each line on the output grid the way it sat on the source grid, so its pixels are copied
-/// whole; along the line, the source position comes from the line's own vertices.
+/// their warped course, with [`LINE_HALO_PX`] on each side: a line shrunk across its width
+/// would otherwise be averaged with what lies beside it (a 1-px rule at half width would become
+/// a 50 % grey smear). The solver has put each line on the output grid the way it sat on the
+/// source grid, so its pixels are copied whole; along the line, the source position comes from
+/// the line's own vertices.
 fn overlay_thin_lines(src: ImageRef<'_>, mesh: &Mesh, warp: &Warp, dst: &mut Image) {
     let Some(st) = mesh.structure() else { return };
     let roles = mesh.roles();
@@ -365,7 +370,7 @@ fn overlay_thin_lines(src: ImageRef<'_>, mesh: &Mesh, warp: &Warp, dst: &mut Ima
                 for o in a.max(0)..b {
                     let t = (o as f64 + 0.5 - o0) / (o1 - o0);
                     let s = (s0 + t * (s1 - s0)).floor() as i64;
-                    for i in 0..l.width as i64 {
+                    for i in -LINE_HALO_PX..l.width as i64 + LINE_HALO_PX {
                         let (sx, sy, dx, dy) = if horizontal {
                             (s, first_src + i, o, first_dst + i)
                         } else {

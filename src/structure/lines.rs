@@ -29,10 +29,11 @@ pub struct Line {
 /// Horizontal lines of a `w × h` luminance image.
 pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Vec<Line> {
     let edges = edge_runs(h, w, |b, flags| {
-        // boundary b between rows b-1 and b
+        // boundary b between rows b-1 and b: the step down it, when large
         let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
         for ((f, &u), &d) in flags.iter_mut().zip(up).zip(down) {
-            *f = u.abs_diff(d) as i16 > EDGE_STEP;
+            let step = d as i16 - u as i16;
+            *f = if step.abs() > EDGE_STEP { step } else { 0 };
         }
     });
     pair_thin(edges)
@@ -50,40 +51,40 @@ pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Vec<Line> {
     horizontal(&t, h, w)
 }
 
+/// One run of steps along a boundary: `(boundary, from, to, rising)`, `rising` when the
+/// luminance mostly grows across the boundary.
+type EdgeRun = (u32, u32, u32, bool);
+
 /// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) where `edge` sets
-/// the flags,
-/// 1-px gaps bridged, of at least [`MIN_LENGTH_PX`]: `(boundary, from, to)`.
-fn edge_runs(
-    n_boundaries: usize,
-    len: usize,
-    edge: impl Fn(usize, &mut [bool]),
-) -> Vec<(u32, u32, u32)> {
+/// a non-zero step, 1-px gaps bridged, of at least [`MIN_LENGTH_PX`].
+fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Vec<EdgeRun> {
     let mut out = Vec::new();
-    let mut flags = vec![false; len];
+    let mut steps = vec![0i16; len];
     for b in 1..n_boundaries {
-        edge(b, &mut flags);
-        if !flags.iter().any(|&f| f) {
+        edge(b, &mut steps);
+        if !steps.iter().any(|&f| f != 0) {
             continue;
         }
         let mut i = 0;
         while i < len {
-            if !flags[i] {
+            if steps[i] == 0 {
                 i += 1;
                 continue;
             }
             let start = i;
             let mut end = i + 1;
             loop {
-                if end < len && flags[end] {
+                if end < len && steps[end] != 0 {
                     end += 1;
-                } else if end + 1 < len && flags[end + 1] {
+                } else if end + 1 < len && steps[end + 1] != 0 {
                     end += 2; // bridge a 1-px gap
                 } else {
                     break;
                 }
             }
             if (end - start) as u32 >= MIN_LENGTH_PX {
-                out.push((b as u32, start as u32, end as u32));
+                let rise: i64 = steps[start..end].iter().map(|&v| v.signum() as i64).sum();
+                out.push((b as u32, start as u32, end as u32, rise > 0));
             }
             i = end;
         }
@@ -91,9 +92,11 @@ fn edge_runs(
     out
 }
 
-/// Turns edge runs into lines: two runs at most [`THIN_PX`] apart covering mostly the same span
-/// are one thin line along their middle.
-fn pair_thin(mut edges: Vec<(u32, u32, u32)>) -> Vec<Line> {
+/// Turns edge runs into lines: two runs of opposite steps (into the line and out of it) at
+/// most [`THIN_PX`] apart covering mostly the same span are one thin line along their middle.
+/// Two steps the same way are a ramp (a line's faint antialiased side, then the line): the
+/// nearer opposite step is the line's other side.
+fn pair_thin(mut edges: Vec<EdgeRun>) -> Vec<Line> {
     edges.sort_unstable();
     let mut used = vec![false; edges.len()];
     let mut out = Vec::new();
@@ -101,14 +104,27 @@ fn pair_thin(mut edges: Vec<(u32, u32, u32)>) -> Vec<Line> {
         if used[i] {
             continue;
         }
-        let (b, f, t) = edges[i];
+        let (b, f, t, rise) = edges[i];
+        // A ramp: the next step the same way over the same span is where this line begins.
+        let ramp = edges[i + 1..]
+            .iter()
+            .take_while(|e| e.0 <= b + 1)
+            .any(|&(b2, f2, t2, r2)| {
+                b2 == b + 1 && r2 == rise && {
+                    let overlap = t.min(t2) as i64 - f.max(f2) as i64;
+                    overlap * 10 >= (t - f).min(t2 - f2) as i64 * 8
+                }
+            });
+        if ramp {
+            continue;
+        }
         let mut partner = None;
         for j in i + 1..edges.len() {
-            let (b2, f2, t2) = edges[j];
+            let (b2, f2, t2, r2) = edges[j];
             if b2 > b + THIN_PX {
                 break;
             }
-            if used[j] || b2 == b {
+            if used[j] || b2 == b || r2 == rise {
                 continue;
             }
             let overlap = t.min(t2) as i64 - f.max(f2) as i64;
@@ -121,7 +137,7 @@ fn pair_thin(mut edges: Vec<(u32, u32, u32)>) -> Vec<Line> {
         match partner {
             Some(j) => {
                 used[j] = true;
-                let (b2, f2, t2) = edges[j];
+                let (b2, f2, t2, _) = edges[j];
                 out.push(Line {
                     pos: (b + b2) as f64 / 2.0,
                     from: f.max(f2) as f64,

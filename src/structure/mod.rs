@@ -32,10 +32,13 @@ impl Structure {
         let (w, h) = (image.width() as usize, image.height() as usize);
         let mut l = Vec::new();
         luma::luma(image, &mut l);
+        let horizontal = lines::horizontal(&l, w, h);
+        let vertical = lines::vertical(&l, w, h);
+        let text = text::detect(&l, w, h, [&horizontal, &vertical]);
         Structure {
-            horizontal: lines::horizontal(&l, w, h),
-            vertical: lines::vertical(&l, w, h),
-            text: text::detect(&l, w, h),
+            horizontal,
+            vertical,
+            text,
         }
     }
 

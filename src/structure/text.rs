@@ -10,13 +10,20 @@
 //!    tall (a lone round blob is a mark, not text).
 //! 4. Overlapping text lines become one block.
 
+use super::Line;
+
 /// Luminance range in a 3×3 neighbourhood that marks a stroke pixel.
 const STROKE_RANGE: u8 = 60;
 /// Glyph (or word) height range, pixels.
 const MIN_H: u32 = 7;
-const MAX_H: u32 = 40;
+const MAX_H: u32 = 60;
 /// Widest glyph component relative to its height (merged words run long).
 const MAX_ASPECT: u32 = 14;
+/// Most ink a glyph component holds: glyphs are mostly ground inside their box (measured on
+/// the real dashboards: a stricter bound starts to lose words), where a filled disc or square
+/// (a dot, a waffle cell, a legend swatch) is ink to its edges (0.6 to 0.8 of its box, which
+/// is one pixel of halo wider).
+const MAX_INK: f32 = 0.5;
 
 /// A text block's bounding box `[x0, y0, x1, y1)` in image pixels, and its line height.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -35,6 +42,8 @@ struct Comp {
     y0: u32,
     x1: u32,
     y1: u32,
+    /// Share of the box's pixels that are ink (far from the ground), once measured.
+    ink: f32,
 }
 
 impl Comp {
@@ -46,11 +55,12 @@ impl Comp {
     }
 }
 
-/// Text blocks of a `w × h` luminance image.
-pub(crate) fn detect(l: &[u8], w: usize, h: usize) -> Vec<TextBlock> {
-    let stroke = stroke_mask(l, w, h);
+/// Text blocks of a `w × h` luminance image whose thin lines are `lines` (horizontal, vertical).
+pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<TextBlock> {
+    let mut stroke = stroke_mask(l, w, h);
+    clear_lines(&mut stroke, w, h, lines);
     let mut comps = components(&stroke, w, h);
-    comps.retain(|c| has_stems(l, w, c));
+    comps.retain_mut(|c| glyph_ink(l, w, c) && c.ink <= MAX_INK);
     let lines = group_lines(comps);
     merge_blocks(lines)
 }
@@ -141,7 +151,13 @@ fn components(mask: &[bool], w: usize, h: usize) -> Vec<Comp> {
                 }
             }
         }
-        let c = Comp { x0, y0, x1, y1 };
+        let c = Comp {
+            x0,
+            y0,
+            x1,
+            y1,
+            ink: 1.0,
+        };
         if (MIN_H..=MAX_H).contains(&c.h()) && c.w() <= MAX_ASPECT * c.h() {
             out.push(c);
         }
@@ -149,10 +165,35 @@ fn components(mask: &[bool], w: usize, h: usize) -> Vec<Comp> {
     out
 }
 
+/// Strokes of lines are not glyphs: a panel's title set into its frame line ("─Total
+/// Transactions─") would otherwise join the frame into one component far too long for text.
+/// The line's pixels and the one-pixel halo the stroke mask gives them are cleared (the
+/// detected lines are at least [`super::lines::MIN_LENGTH_PX`] long: no glyph is cut).
+fn clear_lines(mask: &mut [bool], w: usize, h: usize, [horizontal, vertical]: [&[Line]; 2]) {
+    for (l, across_len, along_len, horizontal) in
+        [(horizontal, h, w, true), (vertical, w, h, false)]
+            .into_iter()
+            .flat_map(|(ls, a, b, hz)| ls.iter().map(move |l| (l, a, b, hz)))
+    {
+        // The line's pixels (none for an edge between two regions, on a boundary) and two on
+        // each side: a faint antialiased row beside a line is part of its stroke too.
+        let half = l.width as f64 / 2.0;
+        let a0 = ((l.pos - half).floor() as i64 - 2).max(0) as usize;
+        let a1 = (((l.pos + half).ceil() as i64 + 2).max(0) as usize).min(across_len);
+        let (b0, b1) = (l.from as usize, (l.to as usize).min(along_len));
+        for a in a0..a1 {
+            for b in b0..b1 {
+                let i = if horizontal { a * w + b } else { b * w + a };
+                mask[i] = false;
+            }
+        }
+    }
+}
+
 /// Whether a component holds glyph stems: a vertical run of ink at least 40 % of its height
 /// (and 4 px). Letters and digits have them; a cluster of dots (a dot-matrix map, a dotted
-/// line) does not, however its dots line up.
-fn has_stems(l: &[u8], w: usize, c: &Comp) -> bool {
+/// line) does not, however its dots line up. Records the component's share of ink.
+fn glyph_ink(l: &[u8], w: usize, c: &mut Comp) -> bool {
     // Background: the most common luminance on the box's border.
     let mut hist = [0u32; 256];
     for x in c.x0..c.x1 {
@@ -165,20 +206,22 @@ fn has_stems(l: &[u8], w: usize, c: &Comp) -> bool {
     }
     let bg = (0..256).max_by_key(|&v| hist[v]).unwrap_or(0) as i16;
     let need = (c.h() * 2 / 5).max(4);
+    let mut stems = false;
+    let mut ink = 0u32;
     for x in c.x0..c.x1 {
         let mut run = 0;
         for y in c.y0..c.y1 {
             if (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16 {
+                ink += 1;
                 run += 1;
-                if run >= need {
-                    return true;
-                }
+                stems |= run >= need;
             } else {
                 run = 0;
             }
         }
     }
-    false
+    c.ink = ink as f32 / (c.w() * c.h()) as f32;
+    stems
 }
 
 // Glyph indices i, j address the sorted list and the union-find parents together.
@@ -224,13 +267,16 @@ fn group_lines(mut comps: Vec<Comp>) -> Vec<(Comp, u32, usize)> {
             y0: e.0.y0.min(c.y0),
             x1: e.0.x1.max(c.x1),
             y1: e.0.y1.max(c.y1),
+            ink: e.0.ink.max(c.ink),
         };
         e.1 = e.1.max(c.h());
         e.2 += 1;
     }
+    // A lone component is text when it is somewhat wider than tall (two digits that touch:
+    // "85"; it is mostly ground, see [`MAX_INK`]); a round or square blob is a mark.
     groups
         .into_values()
-        .filter(|(c, lh, k)| *k >= 2 || c.w() * 5 >= 9 * *lh)
+        .filter(|(c, lh, k)| *k >= 2 || c.w() * 4 >= 5 * *lh)
         .collect()
 }
 
