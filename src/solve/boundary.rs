@@ -124,8 +124,9 @@ fn joined_lines(
 /// of text (legend entries, the tick labels of an axis, the cells of a table row) whose
 /// glyph heights agree within 40 % and whose middles within 30 % of a glyph height (digits
 /// and words with descenders still meet). A row moves up and down as one and keeps one
-/// scale, so its entries stay aligned and alike.
-pub(crate) fn text_rows(text: &[TextBlock]) -> Vec<usize> {
+/// scale, so its entries stay aligned and alike. Blocks with a vertical line between them do
+/// not join: labels of two panels that happen to share a baseline need not share a scale.
+pub(crate) fn text_rows(text: &[TextBlock], vertical: &[crate::structure::Line]) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..text.len()).collect();
     fn find(p: &mut [usize], mut i: usize) -> usize {
         while p[i] != i {
@@ -140,10 +141,18 @@ pub(crate) fn text_rows(text: &[TextBlock]) -> Vec<usize> {
             let (la, lb) = (a.line_height.max(1) as f64, b.line_height.max(1) as f64);
             let single = |t: &TextBlock, lh: f64| ((t.y1 - t.y0) as f64) <= 1.6 * lh;
             let centre = |t: &TextBlock| (t.y0 + t.y1) as f64 / 2.0;
+            let (left, right) = if a.x0 <= b.x0 { (a, b) } else { (b, a) };
+            let walled = || {
+                let (y0, y1) = (a.y0.min(b.y0) as f64, a.y1.max(b.y1) as f64);
+                vertical.iter().any(|l| {
+                    l.pos > left.x1 as f64 && l.pos < right.x0 as f64 && l.from <= y0 && l.to >= y1
+                })
+            };
             if single(a, la)
                 && single(b, lb)
                 && la.max(lb) <= 1.4 * la.min(lb)
                 && (centre(a) - centre(b)).abs() <= (0.3 * la.min(lb)).max(1.5)
+                && !walled()
             {
                 let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
                 parent[ri.max(rj)] = ri.min(rj);
@@ -158,9 +167,11 @@ pub(crate) fn text_rows(text: &[TextBlock]) -> Vec<usize> {
 pub(crate) struct Layout {
     pub x: Vec<Coord>,
     pub y: Vec<Coord>,
-    /// Unknown index of each triangle's scale `s_t`, or [`FIXED`] for a triangle whose corners
-    /// are all fixed (it takes no part in the system).
-    pub s_var: Vec<u32>,
+    /// Unknown indices of each triangle's scales `(a_t, b_t)` along x and y, or [`FIXED`] for
+    /// a triangle whose corners are all fixed (it takes no part in the system). A triangle
+    /// that must stay similar to itself (a mark's fan, the inside of a text block) has one
+    /// scale: both indices are the same unknown.
+    pub s_var: Vec<[u32; 2]>,
     /// The unknowns of each text block: `(tx, ty, s)`.
     pub blocks: Vec<[u32; 3]>,
     /// The y unknown of each horizontal line, the x unknown of each vertical line
@@ -190,6 +201,7 @@ impl Layout {
         let nv = mesh.vertices().len();
         let nt = mesh.triangles().len();
         let roles = mesh.roles();
+        let fans = mesh.fan_triangles();
         let held = |i: usize| fixed.get(i).copied().flatten();
         let mut next = 0u32;
         let mut fresh = || {
@@ -204,7 +216,9 @@ impl Layout {
             ),
             None => (Vec::new(), Vec::new()),
         };
-        let rows = mesh.structure().map_or(Vec::new(), |s| text_rows(&s.text));
+        let rows = mesh
+            .structure()
+            .map_or(Vec::new(), |s| text_rows(&s.text, &s.vertical));
         let mut row_vars: std::collections::HashMap<usize, [u32; 2]> = Default::default();
         let mut hpos: std::collections::HashMap<usize, u32> = Default::default();
         let mut vpos: std::collections::HashMap<usize, u32> = Default::default();
@@ -214,7 +228,7 @@ impl Layout {
         let mut l = Layout {
             x: Vec::with_capacity(nv),
             y: Vec::with_capacity(nv),
-            s_var: vec![FIXED; nt],
+            s_var: vec![[FIXED; 2]; nt],
             blocks: vec![[FIXED; 3]; n_blocks],
             hlines: vec![FIXED; n_h],
             vlines: vec![FIXED; n_v],
@@ -287,8 +301,21 @@ impl Layout {
                 .iter()
                 .any(|&v| !l.x[v as usize].is_fixed() || !l.y[v as usize].is_fixed());
             if active {
-                l.s_var[t] = next;
-                next += 1;
+                let similar = fans.get(t).copied().unwrap_or(false)
+                    || (roles
+                        .get(tri[0] as usize)
+                        .is_some_and(|r| r.block.is_some())
+                        && tri.iter().all(|&v| {
+                            roles.get(v as usize).map(|r| r.block)
+                                == roles.get(tri[0] as usize).map(|r| r.block)
+                        }));
+                if similar {
+                    l.s_var[t] = [next; 2];
+                    next += 1;
+                } else {
+                    l.s_var[t] = [next, next + 1];
+                    next += 2;
+                }
             }
         }
         l.n = next as usize;

@@ -3,33 +3,52 @@
 //!
 //! # The energy, and what differs from the printed equations
 //! Per triangle `t` (area `A_t`, Jacobian `J_t` of the affine map from its source to its deformed
-//! shape, scale unknown `s_t`):
+//! shape, scale unknowns `a_t` along x and `b_t` along y, target scales `δ = (δx, δy)`):
 //!
 //! ```text
-//! E = Σ_t A_t·w_t·‖J_t − s_t·I‖²_F                      shape (Eq. 8–9, Jacobian form)
-//!   + Σ_t μ_t·A_t·(s_t − 1)²                            size prior on salient triangles
-//!   + Σ_{t~n} β·½(A_t + A_n)·√(w_t·w_n)·(s_t − s_n)²     scale smoothing (Eq. 12)
+//! E = Σ_t Â_t·w_t·[(J00 − δx·a_t)² + (J11 − δy·b_t)²]       shape along the axes (Eq. 8–9)
+//!   + Σ_t Â_t·max(w_t, ε)·(J01² + J10²)                     no shear, no rotation
+//!   + Σ_t κ·Â_t·w_t·(δx·a_t − δy·b_t)²                       content keeps its aspect, a little
+//!   + Σ_t μ_t·A_t·[(a_t − 1)² + (b_t − 1)²]                  size prior on salient triangles
+//!   + Σ_{t~n} β·¼(A_t + A_n)·max(√(w_t·w_n), σ)·Σ_axes (a_t − a_n)²   scale smoothing (Eq. 12)
 //! ```
 //!
+//! A mark's fan and the inside of a text block keep their shape: their `a_t` and `b_t` are one
+//! unknown ([`Layout`]), and the first and third lines become the paper's `‖J − sI‖²`.
+//!
+//! * **Per-axis scales.** The paper asks every triangle to stay similar to itself (`J ≈ sI`). A
+//!   visualization is mostly rectangles: panels, bars, cells, axes, which a designer squeezes
+//!   along one axis and keeps along the other (a responsive layout), while dots and text keep
+//!   their shape. With one scale, a bar chart halved in width is halved in height too, its bars'
+//!   sides shrink below what reads as a line and the height they had is empty. With two, the
+//!   shape term only resists shear and rotation (which bend lines and tilt bars) and what the
+//!   prior and smoothing ask; `κ` keeps a trace of the paper's similarity for salient content.
 //! * **Jacobian form.** Eq. 8 sums `‖e' − s·e‖²` over a triangle's edges. The same idea written as
 //!   `A·‖J − sI‖²` (the paper's own `∫ S‖J_F − P‖²` of §5.2.1) is still linear, but weighs a
-//!   triangle by its area instead of its edge lengths: a thin triangle then resists collapse as
-//!   much as a fat one of the same area, which the edge form does not (measured on the seed-7
-//!   stills: fewer folds, rounder marks).
+//!   triangle by its area instead of its edge lengths (measured on the seed-7 stills: fewer
+//!   folds, rounder marks).
+//! * **Slivers.** `Â_t = max(A_t, ζ·Ā)` with `Ā` the mean triangle area: a sliver between a line
+//!   and a label beside it, or between two close lines, keeps its shape as firmly as a triangle
+//!   of that size, instead of flipping at the least push (on a 1920×1080 dashboard at half
+//!   width, `ζ = 0.5` took the folds after the first solve from 529 to 356).
 //! * **Weights.** `w_t = max(λ_t^p, floor)` with `λ_t` the mean VSM over the triangle's pixels
-//!   (Eq. 9), `p = 4` and `floor = 0.001`. Squaring is not enough contrast: with `λ²` the empty
-//!   background still resists and marks get squeezed. The floor keeps the system positive
-//!   definite when a region is empty.
+//!   (Eq. 9), `p = 4` and `floor = 0.03`. Squaring is not enough contrast: with `λ²` the empty
+//!   background still resists and marks get squeezed. With per-axis scales the floor no longer
+//!   makes empty ground resist a squeeze, only an uneven one: with `0.001` the ground between
+//!   marks folded in whole columns (chart-scatter-01 at half width: 176 folds after the first
+//!   solve, 4 with `0.03`).
 //! * **Where λ goes in Eq. 12.** Printed, the smoothing term is `(λ_t s_t − λ_n s_n)²`: between an
 //!   empty triangle (`λ ≈ 0`) and a salient one it pulls the salient scale towards zero, so the
 //!   marks next to empty space shrink. We take the weight out of the square, as a coupling
 //!   strength `√(w_t w_n)`: it ties scales inside salient regions (a mark scales as one piece)
 //!   and lets salient and empty neighbours differ freely.
-//! * **Size prior.** Without it, shrinking a canvas shrinks marks too (`s` is free): `μ_t` pulls `s`
-//!   towards 1 (towards `δ_k`, the enhancement of §5.4, when set), only on triangles with
-//!   `λ_t ≥ 0.4`. Applied to light layers (map regions) too, it crushes the gaps between them.
+//! * **Size prior.** Without it, shrinking a canvas shrinks marks too (the scales are free):
+//!   `μ_t` pulls them towards 1 (towards `δ`, which carries the enhancement of §5.4 and the
+//!   fit of [`super::fit`]), only on triangles with `λ_t ≥ 0.4`. Applied to light layers (map
+//!   regions) too, it crushes the gaps between them.
 //!
-//! The x and y unknowns only meet through `s_t`; the unknowns are laid out by [`Layout`].
+//! The x and y unknowns only meet through similar triangles' shared scale and `κ`; the unknowns
+//! are laid out by [`Layout`].
 
 use super::boundary::{Coord, Layout, FIXED};
 use crate::mesh::{Mesh, NONE};
@@ -55,18 +74,41 @@ pub struct EnergyParams {
     /// warp put its source position (temporal coherence: background around a moving mark
     /// stays put; salient triangles, weighted ~1, still take the shape they need).
     pub temporal: f64,
+    /// Least weight of the shear and rotation residuals (`J01`, `J10`) per unit of area: the
+    /// ground between marks is free to stretch or squeeze along either axis, much less to
+    /// shear, so rows and columns of a layout stay rows and columns.
+    pub shear_floor: f64,
+    /// `κ`, how strongly content that is not a mark or text keeps one scale for both axes
+    /// (0: bars, panels and cells squeeze along one axis like a responsive layout; large: the
+    /// paper's similarity everywhere).
+    pub similarity: f64,
+    /// Least coupling of neighbouring scales (Eq. 12) per unit of area: empty ground absorbs
+    /// a change evenly instead of all of it in one band (which would fold).
+    pub smoothing_floor: f64,
+    /// A triangle smaller than this share of the mean triangle keeps its shape as firmly as
+    /// one of that size: the slivers between a line and a label beside it, or between two
+    /// close lines, would otherwise flip at the least push.
+    pub sliver_area: f64,
+    /// The size prior of salient content free to scale each axis apart (bars, cells, panels),
+    /// relative to that of marks and text: it gives way to them first.
+    pub free_prior: f64,
 }
 
 impl Default for EnergyParams {
     fn default() -> Self {
         EnergyParams {
             weight_power: 4.0,
-            weight_floor: 0.001,
+            weight_floor: 0.03,
             prior_threshold: 0.4,
             prior_strength: 1.0,
             smoothing: 0.5,
             temporal: 0.05,
             text_strength: 0.2,
+            shear_floor: 0.01,
+            similarity: 0.1,
+            smoothing_floor: 0.001,
+            sliver_area: 0.5,
+            free_prior: 1.0,
         }
     }
 }
@@ -77,17 +119,22 @@ pub(crate) struct TriangleTerms<'a> {
     pub lambda: &'a [f64],
     /// Extra weight factor per triangle (fold repair raises it), usually 1.
     pub boost: &'a [f64],
-    /// Target scale per triangle (`δ_k` of Eq. 13), usually 1.
-    pub delta: &'a [f64],
+    /// Target scales per triangle along x and y (`δ_k` of Eq. 13), usually 1.
+    pub delta: &'a [[f64; 2]],
     /// Per vertex, where the temporal term pulls it and how much more than `τ` (empty: no
     /// temporal term).
     pub anchors: &'a [Option<(DVec2, f64)>],
-    /// Per text block, the scale it is pulled to (missing: 1).
+    /// Per text block, the scale it is pulled to (missing: 1), and how many times more firmly
+    /// than [`EnergyParams::text_strength`] (missing: 1).
     pub text_targets: &'a [f64],
+    pub text_hold: &'a [f64],
     /// Per-triangle enhancement factors (empty: none); a factor other than 1 brings the size
     /// prior to its triangle whatever its saliency.
     pub enhance: &'a [f64],
 }
+
+/// Least weight of an enhanced triangle.
+const ENHANCED_WEIGHT: f64 = 0.5;
 
 /// Source-shape data of one triangle, fixed for a topology.
 #[derive(Copy, Clone, Debug)]
@@ -138,11 +185,22 @@ pub(crate) fn assemble(
 ) {
     rhs.fill(0.0);
     let tris = mesh.triangles();
+    // An enhanced triangle (§5.4) matters whatever its saliency: it holds the scale asked of
+    // it as firmly as salient content.
     let w: Vec<f64> = terms
         .lambda
         .iter()
         .zip(terms.boost)
-        .map(|(&l, &b)| weight(params, l) * b)
+        .enumerate()
+        .map(|(t, (&l, &b))| {
+            let enhanced = terms.enhance.get(t).is_some_and(|&e| e != 1.0);
+            let w = weight(params, l);
+            if enhanced {
+                w.max(ENHANCED_WEIGHT) * b
+            } else {
+                w * b
+            }
+        })
         .collect();
     // Adds K[a][b] for local coordinates za, zb.
     let pair = |za: &Coord,
@@ -161,61 +219,92 @@ pub(crate) fn assemble(
             }
         }
     };
+    let mean_area = mesh.size().width as f64 * mesh.size().height as f64 / tris.len().max(1) as f64;
     for (t, tri) in tris.iter().enumerate() {
-        if layout.s_var[t] == FIXED {
+        let [sx, sy] = layout.s_var[t];
+        if sx == FIXED {
             continue; // all corners fixed: a constant
         }
         let g = &geom[t];
-        let c = g.area * w[t];
-        let s = Coord::var(layout.s_var[t]);
-        let delta = terms.delta[t];
-        // Residuals J00 − δs, J01, J10, J11 − δs:
-        //   K[xj][xk] = K[yj][yk] = c gj·gk, K[xj][s] = −c δ gj.x, K[yj][s] = −c δ gj.y,
-        //   K[s][s] = 2 c δ² (+ the size prior).
+        // Weights of the diagonal residuals (J00 − δx·a, J11 − δy·b) and of the off-diagonal
+        // ones (J01, J10: shear and rotation), which even empty ground resists a little.
+        let stiff = g.area.max(params.sliver_area * mean_area);
+        let cd = stiff * w[t];
+        let co = stiff * w[t].max(params.shear_floor * terms.boost[t]);
+        let [dx, dy] = terms.delta[t];
         let xs = tri.map(|v| layout.x[v as usize]);
         let ys = tri.map(|v| layout.y[v as usize]);
-        for (coords, comp) in [(&xs, 0usize), (&ys, 1usize)] {
+        // Row 0 of J is the gradient of x', row 1 that of y':
+        //   K[xj][xk] = cd gj.x gk.x + co gj.y gk.y,  K[yj][yk] = co gj.x gk.x + cd gj.y gk.y,
+        //   K[xj][a] = −cd δx gj.x,  K[yj][b] = −cd δy gj.y,  K[a][a] = cd δx²,  K[b][b] = cd δy².
+        for (coords, comp, sv, d) in [(&xs, 0usize, sx, dx), (&ys, 1usize, sy, dy)] {
+            let s = Coord::var(sv);
+            let (kx, ky) = if comp == 0 { (cd, co) } else { (co, cd) };
             for j in 0..3 {
                 for k in 0..3 {
+                    let (gj, gk) = (g.grad[j], g.grad[k]);
                     pair(
                         &coords[j],
                         &coords[k],
-                        c * g.grad[j].dot(g.grad[k]),
+                        kx * gj.x * gk.x + ky * gj.y * gk.y,
                         rhs,
                         &mut entry,
                     );
                 }
                 let gj = g.grad[j];
-                let kjs = -c * delta * if comp == 0 { gj.x } else { gj.y };
+                let kjs = -cd * d * if comp == 0 { gj.x } else { gj.y };
                 pair(&coords[j], &s, kjs, rhs, &mut entry);
                 pair(&s, &coords[j], kjs, rhs, &mut entry);
             }
+            pair(&s, &s, cd * d * d, rhs, &mut entry);
         }
-        let mut ss = 2.0 * c * delta * delta;
         let lambda = terms.lambda[t];
         let enhanced = terms.enhance.get(t).is_some_and(|&e| e != 1.0);
-        if lambda >= params.prior_threshold || enhanced {
-            let mu = params.prior_strength * g.area * if enhanced { w[t].max(0.5) } else { w[t] };
-            ss += mu;
-            rhs[layout.s_var[t] as usize] += mu;
+        let mu = if lambda >= params.prior_threshold || enhanced {
+            params.prior_strength * g.area * w[t]
+        } else {
+            0.0
+        };
+        let (a, b) = (Coord::var(sx), Coord::var(sy));
+        if sx == sy {
+            pair(&a, &a, mu, rhs, &mut entry);
+            rhs[sx as usize] += mu;
+        } else {
+            // Size prior per axis, and the pull towards similarity `κ·cd·(δx·a − δy·b)²`.
+            let mu = mu * params.free_prior;
+            let ks = params.similarity * cd;
+            pair(&a, &a, mu + ks * dx * dx, rhs, &mut entry);
+            pair(&b, &b, mu + ks * dy * dy, rhs, &mut entry);
+            pair(&a, &b, -ks * dx * dy, rhs, &mut entry);
+            pair(&b, &a, -ks * dx * dy, rhs, &mut entry);
+            rhs[sx as usize] += mu;
+            rhs[sy as usize] += mu;
         }
-        pair(&s, &s, ss, rhs, &mut entry);
     }
-    // Eq. 12, weight outside the square.
+    // Eq. 12, weight outside the square, per axis (half each, so that two similar triangles
+    // are tied as strongly as by one shared scale).
     for (t, nb) in mesh.neighbours().iter().enumerate() {
         for &n in nb {
             if n == NONE || (n as usize) < t {
                 continue;
             }
             let n = n as usize;
-            if layout.s_var[t] == FIXED || layout.s_var[n] == FIXED {
+            if layout.s_var[t][0] == FIXED || layout.s_var[n][0] == FIXED {
                 continue;
             }
-            let b = params.smoothing * 0.5 * (geom[t].area + geom[n].area) * (w[t] * w[n]).sqrt();
-            let (st, sn) = (layout.s_var[t] as usize, layout.s_var[n] as usize);
-            entry(st, st, b);
-            entry(sn, sn, b);
-            entry(st.min(sn), st.max(sn), -b);
+            let b = params.smoothing
+                * 0.25
+                * (geom[t].area + geom[n].area)
+                * (w[t] * w[n]).sqrt().max(params.smoothing_floor);
+            for axis in 0..2 {
+                let (st, sn) = (
+                    layout.s_var[t][axis] as usize,
+                    layout.s_var[n][axis] as usize,
+                );
+                entry(st, st, b);
+                entry(sn, sn, b);
+                entry(st.min(sn), st.max(sn), -b);
+            }
         }
     }
     // Text blocks: their scale pulled to δ (as large as the space allows, at most 1).
@@ -226,7 +315,7 @@ pub(crate) fn assemble(
             }
             let b = &st.text[k];
             let area = ((b.x1 - b.x0) * (b.y1 - b.y0)) as f64;
-            let mu = params.text_strength * area;
+            let mu = params.text_strength * area * terms.text_hold.get(k).copied().unwrap_or(1.0);
             let sv = block[2] as usize;
             entry(sv, sv, mu);
             rhs[sv] += mu * terms.text_targets.get(k).copied().unwrap_or(1.0);
@@ -253,16 +342,21 @@ pub(crate) fn assemble(
 #[cfg(test)]
 pub(crate) fn energy_of(
     mesh: &Mesh,
+    layout: &Layout,
     geom: &[TriangleGeometry],
     terms: &TriangleTerms<'_>,
     params: &EnergyParams,
     pos: &[DVec2],
-    scales: &[f64],
+    scales: &[[f64; 2]],
 ) -> f64 {
     let mut e = 0.0;
     for (t, tri) in mesh.triangles().iter().enumerate() {
         let g = &geom[t];
+        let mean_area =
+            mesh.size().width as f64 * mesh.size().height as f64 / mesh.triangles().len() as f64;
+        let stiff = g.area.max(params.sliver_area * mean_area);
         let w = weight(params, terms.lambda[t]) * terms.boost[t];
+        let wo = w.max(params.shear_floor * terms.boost[t]);
         let mut j = [[0.0; 2]; 2];
         for k in 0..3 {
             let p = pos[tri[k] as usize];
@@ -271,12 +365,21 @@ pub(crate) fn energy_of(
             j[1][0] += p.y * g.grad[k].x;
             j[1][1] += p.y * g.grad[k].y;
         }
-        let ds = terms.delta[t] * scales[t];
-        e += g.area
-            * w
-            * ((j[0][0] - ds).powi(2) + j[0][1].powi(2) + j[1][0].powi(2) + (j[1][1] - ds).powi(2));
-        if terms.lambda[t] >= params.prior_threshold {
-            e += params.prior_strength * g.area * w * (scales[t] - 1.0).powi(2);
+        let [a, b] = scales[t];
+        let [dx, dy] = terms.delta[t];
+        e += stiff * w * ((j[0][0] - dx * a).powi(2) + (j[1][1] - dy * b).powi(2));
+        let [sx, sy] = layout.s_var[t];
+        e += stiff * wo * (j[0][1].powi(2) + j[1][0].powi(2));
+        let mu = if terms.lambda[t] >= params.prior_threshold {
+            params.prior_strength * g.area * w
+        } else {
+            0.0
+        };
+        if sx == sy {
+            e += mu * (a - 1.0).powi(2);
+        } else {
+            e += mu * params.free_prior * ((a - 1.0).powi(2) + (b - 1.0).powi(2));
+            e += params.similarity * stiff * w * (dx * a - dy * b).powi(2);
         }
     }
     for (t, nb) in mesh.neighbours().iter().enumerate() {
@@ -287,8 +390,13 @@ pub(crate) fn energy_of(
             let n = n as usize;
             let wt = weight(params, terms.lambda[t]) * terms.boost[t];
             let wn = weight(params, terms.lambda[n]) * terms.boost[n];
-            let b = params.smoothing * 0.5 * (geom[t].area + geom[n].area) * (wt * wn).sqrt();
-            e += b * (scales[t] - scales[n]).powi(2);
+            let b = params.smoothing
+                * 0.25
+                * (geom[t].area + geom[n].area)
+                * (wt * wn).sqrt().max(params.smoothing_floor);
+            for (st, sn) in scales[t].iter().zip(&scales[n]) {
+                e += b * (st - sn).powi(2);
+            }
         }
     }
     e

@@ -58,15 +58,37 @@ fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool, max_gap: u32) {
     }
 }
 
-/// The scale salient content should keep: in `[min(w'/w, h'/h), 1]`.
-pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 {
+/// The scales salient content should keep along x and y: each in `[its axis's linear scale,
+/// 1]`. Content that keeps its shape takes the smaller.
+pub(crate) fn salient_fit_scale(
+    vsm: &Vsm,
+    target: Size,
+    threshold: f32,
+    text: &[crate::structure::TextBlock],
+) -> [f64; 2] {
     let grid = vsm.grid_size();
     let sc = vsm.scale() as usize;
     let (w, h) = (grid.width as usize, grid.height as usize);
     // Pixel lengths in map cells.
     let min_thickness = MIN_THICKNESS_PX.div_ceil(sc);
     let max_gap = MAX_GAP_PX.div_ceil(sc as u32);
-    let imp = vsm.importance();
+    // Text has a fit of its own ([`text_fit_scales`]): its pixels do not count here.
+    let mut masked;
+    let imp = if text.is_empty() {
+        vsm.importance()
+    } else {
+        masked = vsm.importance().to_vec();
+        for b in text {
+            let (x0, x1) = (
+                (b.x0 as usize / sc).min(w),
+                (b.x1 as usize).div_ceil(sc).min(w),
+            );
+            for y in (b.y0 as usize / sc).min(h)..(b.y1 as usize).div_ceil(sc).min(h) {
+                masked[y * w + x0..y * w + x1].fill(0.0);
+            }
+        }
+        &masked[..]
+    };
     // Row widths: mark pixels in vertical runs of at least MIN_THICKNESS_PX. A pixel's run
     // is known when the run ends, so rows are filled in per column run, walking rows in order
     // (per-column counters, row-major reads).
@@ -132,55 +154,134 @@ pub(crate) fn salient_fit_scale(vsm: &Vsm, target: Size, threshold: f32) -> f64 
         f64::INFINITY
     };
     let size = vsm.size();
-    let linear = (tw / size.width as f64).min(th / size.height as f64);
-    fit_x.min(fit_y).min(1.0).max(linear.min(1.0))
+    let (lx, ly) = (tw / size.width as f64, th / size.height as f64);
+    [
+        fit_x.min(1.0).max(lx.min(1.0)),
+        fit_y.min(1.0).max(ly.min(1.0)),
+    ]
 }
 
-/// The scale each text block can keep: the largest at which the text crossing any of its rows
-/// fits the target width (with the margin of [`FILL`]), and likewise for its columns and the
-/// target height; at most 1. A title alone on its row keeps more than a legend crowded into
-/// one row with other labels.
+/// The scale each text block can keep, at most 1.
+///
+/// Lines are walls: every vertex on a vertical line shares its x, so the rows a line crosses
+/// are cut there into cells whose output widths hold for the line's whole length. A cell
+/// (between two walls, over the rows both span) needs the width of its widest row of text.
+/// Each row's target width (with the margin of [`TEXT_FILL`]) is shared among its cells in
+/// proportion to their needs, and a block must fit its share beside the rest of its row's
+/// text in its cell; likewise for columns, horizontal lines and the target height. A title
+/// alone on its row keeps more than a legend crowded into one row with other labels, and a
+/// table in a panel beside a crowded one shrinks even where its own rows are short.
 pub(crate) fn text_fit_scales(
     text: &[crate::structure::TextBlock],
+    structure: &crate::structure::Structure,
     size: Size,
     target: Size,
 ) -> Vec<f64> {
-    let (w, h) = (size.width as usize, size.height as usize);
-    let mut rows = vec![0u32; h];
-    let mut cols = vec![0u32; w];
-    for b in text {
-        for r in rows[(b.y0 as usize).min(h)..(b.y1 as usize).min(h)].iter_mut() {
-            *r += b.x1 - b.x0;
+    let fx = axis_fit(text, &structure.vertical, size, target, true);
+    let fy = axis_fit(text, &structure.horizontal, size, target, false);
+    fx.iter()
+        .zip(&fy)
+        .map(|(a, b)| a.min(*b).min(1.0))
+        .collect()
+}
+
+/// [`text_fit_scales`] along one axis: x (`horizontal`, walls are vertical lines) or y.
+fn axis_fit(
+    text: &[crate::structure::TextBlock],
+    walls: &[crate::structure::Line],
+    size: Size,
+    target: Size,
+    horizontal: bool,
+) -> Vec<f64> {
+    use std::collections::HashMap;
+    // Along the squeezed axis `a` (x for rows), across it `c`.
+    let (len_a, len_c, out) = if horizontal {
+        (size.width, size.height, target.width)
+    } else {
+        (size.height, size.width, target.height)
+    };
+    let spans: Vec<(u32, u32, u32, u32)> = text
+        .iter()
+        .map(|b| {
+            let s = if horizontal {
+                (b.x0, b.x1, b.y0, b.y1)
+            } else {
+                (b.y0, b.y1, b.x0, b.x1)
+            };
+            (s.0, s.1, s.2.min(len_c), s.3.min(len_c))
+        })
+        .collect();
+    // Bands of rows between the places where a block or a wall starts or ends.
+    let mut cuts: Vec<u32> = vec![0, len_c];
+    for &(_, _, c0, c1) in &spans {
+        cuts.extend([c0, c1]);
+    }
+    for l in walls {
+        cuts.extend([
+            (l.from.max(0.0) as u32).min(len_c),
+            (l.to.ceil().max(0.0) as u32).min(len_c),
+        ]);
+    }
+    cuts.sort_unstable();
+    cuts.dedup();
+    type Cell = (usize, usize);
+    struct Band {
+        range: (u32, u32),
+        cells: Vec<Cell>,
+        /// Text along the band in each cell, and each block's cell.
+        sums: HashMap<Cell, f64>,
+        of_block: Vec<(usize, Cell)>,
+    }
+    let mut need: HashMap<Cell, f64> = HashMap::new();
+    let mut bands = Vec::new();
+    for w in cuts.windows(2) {
+        let (c0, c1) = (w[0], w[1]);
+        // Walls across this band, sorted along it; the canvas sides bound every band.
+        let cf = c0 as f64 + 0.5;
+        let mut ws: Vec<(f64, usize)> = walls
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.from <= cf && cf < l.to)
+            .map(|(i, l)| (l.pos, i))
+            .collect();
+        ws.push((0.0, usize::MAX - 1));
+        ws.push((len_a as f64, usize::MAX));
+        ws.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut band = Band {
+            range: (c0, c1),
+            cells: ws.windows(2).map(|w| (w[0].1, w[1].1)).collect(),
+            sums: HashMap::new(),
+            of_block: Vec::new(),
+        };
+        for (i, &(a0, a1, b0, b1)) in spans.iter().enumerate() {
+            if b0 >= c1 || b1 <= c0 {
+                continue;
+            }
+            let mid = (a0 + a1) as f64 / 2.0;
+            let k = ws.partition_point(|w| w.0 <= mid).clamp(1, ws.len() - 1);
+            let cell = (ws[k - 1].1, ws[k].1);
+            *band.sums.entry(cell).or_default() += (a1 - a0) as f64;
+            band.of_block.push((i, cell));
         }
-        for c in cols[(b.x0 as usize).min(w)..(b.x1 as usize).min(w)].iter_mut() {
-            *c += b.y1 - b.y0;
+        for (&cell, &v) in &band.sums {
+            let e = need.entry(cell).or_default();
+            *e = e.max(v);
+        }
+        bands.push(band);
+    }
+    let mut fit = vec![1.0f64; text.len()];
+    for band in &bands {
+        if band.range.0 == band.range.1 {
+            continue;
+        }
+        // The row's width is shared among its cells in proportion to what they need.
+        let total: f64 = band.cells.iter().filter_map(|c| need.get(c)).sum();
+        for &(i, cell) in &band.of_block {
+            let width = TEXT_FILL * out as f64 * need[&cell] / total;
+            fit[i] = fit[i].min(width / band.sums[&cell]);
         }
     }
-    text.iter()
-        .map(|b| {
-            let widest = rows[(b.y0 as usize).min(h)..(b.y1 as usize).min(h)]
-                .iter()
-                .copied()
-                .max()
-                .unwrap_or(0) as f64;
-            let tallest = cols[(b.x0 as usize).min(w)..(b.x1 as usize).min(w)]
-                .iter()
-                .copied()
-                .max()
-                .unwrap_or(0) as f64;
-            let fx = if widest > 0.0 {
-                TEXT_FILL * target.width as f64 / widest
-            } else {
-                1.0
-            };
-            let fy = if tallest > 0.0 {
-                TEXT_FILL * target.height as f64 / tallest
-            } else {
-                1.0
-            };
-            fx.min(fy).min(1.0)
-        })
-        .collect()
+    fit
 }
 
 #[cfg(test)]
@@ -188,6 +289,7 @@ mod tests {
     use super::*;
     use crate::image::Image;
     use crate::saliency::VsmBuilder;
+    use crate::structure::{Line, Structure, TextBlock};
 
     #[test]
     fn extent_closes_small_gaps_only() {
@@ -214,12 +316,12 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4),
-            1.0
+            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[]),
+            [1.0, 1.0]
         );
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(400, 100).unwrap(), 0.4),
-            1.0
+            salient_fit_scale(&vsm, Size::new(400, 100).unwrap(), 0.4, &[]),
+            [1.0, 1.0]
         );
     }
 
@@ -236,8 +338,8 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4),
-            1.0
+            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[]),
+            [1.0, 1.0]
         );
 
         // A salient band 300 px wide in every row cannot keep scale 1 in 200 px.
@@ -250,7 +352,49 @@ mod tests {
             }
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
-        let s = salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4);
-        assert!((0.5..0.7).contains(&s), "{s}");
+        let [sx, sy] = salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[]);
+        assert!((0.5..0.7).contains(&sx), "{sx}");
+        // The height does not change: nothing to fit along y but the margin.
+        assert!(sy > sx, "{sy}");
+    }
+
+    fn block(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {
+        TextBlock {
+            x0,
+            y0,
+            x1,
+            y1,
+            line_height: y1 - y0,
+        }
+    }
+
+    /// Two panels side by side: a vertical line between them keeps one x for its whole
+    /// length, so each panel needs its widest row of text on every row it spans, and two
+    /// labels on different rows, each alone in its row, must still share the width.
+    #[test]
+    fn a_wall_makes_a_panel_need_its_widest_row_everywhere() {
+        let size = Size::new(1000, 400).unwrap();
+        let target = Size::new(500, 400).unwrap();
+        // Left panel: a wide label at the top; right panel: a label lower down, where the left
+        // panel is empty.
+        let text = vec![block(20, 20, 420, 40), block(620, 300, 900, 320)];
+        let none = Structure::default();
+        let free = text_fit_scales(&text, &none, size, target);
+        assert_eq!(free, vec![1.0, 1.0], "each alone in its row fits");
+        let walled = Structure {
+            vertical: vec![Line {
+                pos: 500.0,
+                from: 0.0,
+                to: 400.0,
+                width: 1,
+            }],
+            ..Structure::default()
+        };
+        let fit = text_fit_scales(&text, &walled, size, target);
+        // Every row needs 400 px on the left and 280 on the right: 680 > 475, both shrink
+        // alike.
+        for f in &fit {
+            assert!((f - 0.95 * 500.0 / 680.0).abs() < 1e-9, "{fit:?}");
+        }
     }
 }

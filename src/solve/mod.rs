@@ -35,7 +35,7 @@ use glam::DVec2;
 pub struct Warp {
     target: Size,
     positions: Vec<DVec2>,
-    scales: Vec<f64>,
+    scales: Vec<[f64; 2]>,
 }
 
 impl Warp {
@@ -47,7 +47,7 @@ impl Warp {
         Warp {
             target,
             positions,
-            scales: vec![(sx * sy).sqrt(); mesh.triangles().len()],
+            scales: vec![[sx, sy]; mesh.triangles().len()],
         }
     }
 
@@ -71,11 +71,12 @@ impl Warp {
                 let [p, q, r] = mesh.triangle_points(t);
                 let before = (q - p).perp_dot(r - p);
                 let after = (b - a).perp_dot(c - a);
-                if before > 0.0 {
+                let s = if before > 0.0 {
                     (after / before).max(0.0).sqrt()
                 } else {
                     1.0
-                }
+                };
+                [s, s]
             })
             .collect();
         Warp {
@@ -95,8 +96,9 @@ impl Warp {
         &self.positions
     }
 
-    /// The solved scale `s_t` of each triangle.
-    pub fn scales(&self) -> &[f64] {
+    /// The solved scales `(a_t, b_t)` of each triangle along x and y (equal for a triangle
+    /// held similar), relative to the target scale the size prior asked of it.
+    pub fn scales(&self) -> &[[f64; 2]] {
         &self.scales
     }
 
@@ -113,6 +115,24 @@ fn linear_positions(mesh: &Mesh, target: Size) -> Vec<DVec2> {
         .iter()
         .map(|p| DVec2::new(snap(p.x * sx), snap(p.y * sy)))
         .collect()
+}
+
+/// The target scales of the size prior (Eq. 13's `δ`) for one frame.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct SalientFit {
+    /// For salient content free to scale each axis apart (bars, cells, panels), along x and y.
+    pub free: [f64; 2],
+    /// For marks, which keep their shape.
+    pub similar: f64,
+}
+
+impl Default for SalientFit {
+    fn default() -> Self {
+        SalientFit {
+            free: [1.0; 2],
+            similar: 1.0,
+        }
+    }
 }
 
 /// What one solve did.
@@ -138,10 +158,15 @@ pub struct SolveStats {
     pub blend: f64,
     /// Whether the blend had to be global.
     pub blend_global: bool,
-    /// The scale the size prior asked of salient content (1 unless it could not fit).
+    /// The scale the size prior asked of marks, which keep their shape (1 unless they could
+    /// not fit).
     pub salient_scale: f64,
+    /// The scales the size prior asked of other salient content along x and y.
+    pub salient_fit: [f64; 2],
     /// Lines and text blocks moved onto the pixel grid after the solve.
     pub snapped: usize,
+    /// Text blocks held at their target scale after the first solve found room for them.
+    pub text_held: usize,
 }
 
 /// Solves the energy for meshes, keeping the symbolic factorization while the topology holds.
@@ -154,12 +179,13 @@ pub struct Solver {
     geom: Vec<energy::TriangleGeometry>,
     lambda: Vec<f64>,
     boost: Vec<f64>,
-    delta: Vec<f64>,
+    delta: Vec<[f64; 2]>,
     anchors: Vec<Option<(DVec2, f64)>>,
     /// Per-triangle enhancement factors (empty: none).
     enhance: Vec<f64>,
-    /// Per text block, the scale it is pulled to.
+    /// Per text block, the scale it is pulled to, and how much more firmly than usual.
     text_targets: Vec<f64>,
+    text_hold: Vec<f64>,
     pairs: Vec<(u32, u32)>,
     rhs: Vec<f64>,
 }
@@ -167,11 +193,19 @@ pub struct Solver {
 /// What one solve with repair rounds produced.
 struct Outcome {
     positions: Vec<DVec2>,
-    scales: Vec<f64>,
+    scales: Vec<[f64; 2]>,
     stats: SolveStats,
     /// Triangles still folded.
     folded: Vec<usize>,
 }
+
+/// A text block that a solve brought to at least this share of its target scale is then held
+/// at the target ([`TEXT_HOLD`] times as firmly) and the system solved again: text at exactly
+/// its size is copied crisp, a few per cent short of it is resampled and blurs.
+const PROMOTE: f64 = 0.85;
+const TEXT_HOLD: f64 = 100.0;
+/// Solves with held text before giving the hold up.
+const HOLD_ATTEMPTS: usize = 3;
 
 /// Re-solves with tripled weights on folded triangles, at most this many times.
 const REPAIR_ROUNDS: usize = 8;
@@ -229,9 +263,18 @@ impl Solver {
         vsm: &Vsm,
         target: Size,
     ) -> Result<(Warp, SolveStats), Error> {
-        let fit = fit::salient_fit_scale(vsm, target, self.params.prior_threshold as f32);
+        let fit = fit::salient_fit_scale(
+            vsm,
+            target,
+            self.params.prior_threshold as f32,
+            mesh.structure().map_or(&[], |s| &s.text[..]),
+        );
+        let fit = SalientFit {
+            free: fit,
+            similar: fit[0].min(fit[1]),
+        };
         self.text_targets = mesh.structure().map_or(Vec::new(), |s| {
-            fit::text_fit_scales(&s.text, mesh.size(), target)
+            fit::text_fit_scales(&s.text, s, mesh.size(), target)
         });
         self.anchors.clear();
         // Marks' fans held rigid first; where that leaves folds only a blend of the whole warp
@@ -248,7 +291,7 @@ impl Solver {
                 scales,
                 mut stats,
                 folded: bad,
-            } = self.solve_with(mesh, layout, fit)?;
+            } = self.solve_with(mesh, layout, target, fit)?;
             if !bad.is_empty() {
                 let vt = repair::VertexTriangles::new(mesh);
                 stats.untangled =
@@ -281,8 +324,8 @@ impl Solver {
     }
 
     /// Solves only around what changed: vertex `i` with `fixed[i] = Some(p)` stays at `p` (its
-    /// position in the last frame's warp), the others are solved, with `salient_scale` as the
-    /// size prior's target (the value of the last full solve, so that a local update does not
+    /// position in the last frame's warp), the others are solved, with `salient_fit` as the
+    /// size prior's targets along x and y (the value of the last full solve, so that a local update does not
     /// change the scale of everything else). Returns `None` if folds remain after the repair
     /// rounds: the caller then solves the whole mesh. A free vertex `i` with `anchors[i] =
     /// Some((p, k))` is pulled towards `p` by the temporal term ([`EnergyParams::temporal`]
@@ -294,7 +337,7 @@ impl Solver {
         target: Size,
         fixed: &[Option<DVec2>],
         anchors: &[Option<(DVec2, f64)>],
-        salient_scale: f64,
+        salient_fit: SalientFit,
     ) -> Result<Option<(Warp, SolveStats)>, Error> {
         weights::triangle_saliency(mesh, vsm, true, &mut self.lambda);
         self.anchors.clear();
@@ -305,7 +348,7 @@ impl Solver {
             scales,
             stats,
             folded: bad,
-        } = self.solve_with(mesh, layout, salient_scale)?;
+        } = self.solve_with(mesh, layout, target, salient_fit)?;
         if !bad.is_empty() {
             return Ok(None);
         }
@@ -317,18 +360,21 @@ impl Solver {
         Ok(Some((warp, stats)))
     }
 
-    /// Solves with the current `λ_t` on `layout`, the size prior aiming at `salient_scale`
-    /// (Eq. 13's `δ`), with the repair rounds; returns snapped positions, scales, the stats
-    /// and the triangles still folded.
+    /// Solves with the current `λ_t` on `layout`, the size prior aiming at `fit` along x and y
+    /// (Eq. 13's `δ`; the smaller of the two for what keeps its shape), with the repair rounds;
+    /// returns snapped positions, scales, the stats and the triangles still folded.
     fn solve_with(
         &mut self,
         mesh: &Mesh,
         layout: Layout,
-        salient_scale: f64,
+        target: Size,
+        fit: SalientFit,
     ) -> Result<Outcome, Error> {
         let nt = mesh.triangles().len();
+        let similar_scale = fit.similar;
         let mut stats = SolveStats {
-            salient_scale,
+            salient_scale: similar_scale,
+            salient_fit: fit.free,
             ..SolveStats::default()
         };
         self.layout = layout;
@@ -347,10 +393,18 @@ impl Solver {
             ^ anchored.rotate_left(2);
         self.boost.clear();
         self.boost.resize(nt, 1.0);
+        self.text_hold.clear();
+        self.text_hold.resize(self.layout.blocks.len(), 1.0);
         self.delta.clear();
-        self.delta.resize(nt, salient_scale);
+        self.delta.extend(self.layout.s_var.iter().map(|&[a, b]| {
+            if a == b {
+                [similar_scale; 2]
+            } else {
+                fit.free
+            }
+        }));
         for (d, &e) in self.delta.iter_mut().zip(&self.enhance) {
-            *d *= e;
+            *d = d.map(|v| v * e);
         }
         // A triangle inside a text block aims at the block's own scale.
         if let Some(st) = mesh.structure() {
@@ -360,8 +414,9 @@ impl Solver {
                 if b.is_some() && tri.iter().all(|&v| roles[v as usize].block == b) {
                     let k = b.unwrap_or(0) as usize;
                     if k < st.text.len() {
-                        self.delta[t] = self.text_targets.get(k).copied().unwrap_or(1.0)
+                        self.delta[t] = [self.text_targets.get(k).copied().unwrap_or(1.0)
                             * self.enhance.get(t).copied().unwrap_or(1.0);
+                            2];
                     }
                 }
             }
@@ -377,6 +432,7 @@ impl Solver {
                 delta: &self.delta,
                 anchors: &self.anchors,
                 text_targets: &self.text_targets,
+                text_hold: &self.text_hold,
                 enhance: &self.enhance,
             };
             let pairs = &mut self.pairs;
@@ -400,13 +456,34 @@ impl Solver {
         let mut pos = self.numeric_solve(mesh)?;
         let mut bad = repair::folded(mesh, &pos.0);
         stats.folds_first_solve = bad.len();
-        while !bad.is_empty() && stats.repair_rounds < REPAIR_ROUNDS {
-            for &t in &bad {
-                self.boost[t] *= REPAIR_FACTOR;
+        self.repair_rounds(mesh, &mut pos, &mut bad, &mut stats)?;
+        if bad.is_empty() && self.hold_text() > 0 {
+            let before = (pos.clone(), self.rhs.clone(), self.boost.clone());
+            let mut rounds = SolveStats::default();
+            let mut settled = false;
+            for _ in 0..HOLD_ATTEMPTS {
+                pos = self.numeric_solve(mesh)?;
+                bad = repair::folded(mesh, &pos.0);
+                self.repair_rounds(mesh, &mut pos, &mut bad, &mut rounds)?;
+                if bad.is_empty() {
+                    settled = true;
+                    break;
+                }
+                // Where folds remain, the held blocks across the squeeze from them go back
+                // to their usual firmness.
+                if !self.release_text_at(mesh, target, &bad) {
+                    break;
+                }
             }
-            pos = self.numeric_solve(mesh)?;
-            bad = repair::folded(mesh, &pos.0);
-            stats.repair_rounds += 1;
+            stats.repair_rounds += rounds.repair_rounds;
+            if settled {
+                stats.text_held = self.text_hold.iter().filter(|&&h| h > 1.0).count();
+            } else {
+                // No room after all: the first solution stands.
+                (pos, self.rhs, self.boost) = before;
+                self.text_hold.fill(1.0);
+                bad.clear();
+            }
         }
         if bad.is_empty() {
             if let Some((snapped, n)) = snapping::snap_structure(mesh, &self.layout, &self.rhs) {
@@ -422,9 +499,84 @@ impl Solver {
         })
     }
 
+    /// Re-solves with raised weights on folded triangles until none is left or the rounds are
+    /// spent.
+    fn repair_rounds(
+        &mut self,
+        mesh: &Mesh,
+        pos: &mut (Vec<DVec2>, Vec<[f64; 2]>),
+        bad: &mut Vec<usize>,
+        stats: &mut SolveStats,
+    ) -> Result<(), Error> {
+        let mut rounds = 0;
+        while !bad.is_empty() && rounds < REPAIR_ROUNDS {
+            for &t in bad.iter() {
+                self.boost[t] *= REPAIR_FACTOR;
+            }
+            *pos = self.numeric_solve(mesh)?;
+            *bad = repair::folded(mesh, &pos.0);
+            rounds += 1;
+        }
+        stats.repair_rounds += rounds;
+        Ok(())
+    }
+
+    /// Releases the held text blocks that lie across the squeeze from a folded triangle (the
+    /// same rows where the width shrinks, the same columns where the height does), or all of
+    /// them if none does; whether any was held.
+    fn release_text_at(&mut self, mesh: &Mesh, target: Size, folded: &[usize]) -> bool {
+        let Some(st) = mesh.structure() else {
+            return false;
+        };
+        let (rows, cols) = (
+            target.width < mesh.size().width,
+            target.height < mesh.size().height,
+        );
+        let spans: Vec<[f64; 4]> = folded
+            .iter()
+            .map(|&t| {
+                let p = mesh.triangle_points(t);
+                let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+                [lo.x, lo.y, hi.x, hi.y]
+            })
+            .collect();
+        let mut released = false;
+        for (b, hold) in st.text.iter().zip(self.text_hold.iter_mut()) {
+            let across = spans.iter().any(|f| {
+                (rows && (b.y0 as f64) < f[3] && (b.y1 as f64) > f[1])
+                    || (cols && (b.x0 as f64) < f[2] && (b.x1 as f64) > f[0])
+            });
+            if across && *hold > 1.0 {
+                *hold = 1.0;
+                released = true;
+            }
+        }
+        if !released && self.text_hold.iter().any(|&h| h > 1.0) {
+            self.text_hold.fill(1.0);
+            released = true;
+        }
+        released
+    }
+
+    /// Holds every text block the last solve (in `rhs`) brought near its target; how many.
+    fn hold_text(&mut self) -> usize {
+        let mut held = 0;
+        for (k, b) in self.layout.blocks.iter().enumerate() {
+            if b[2] == FIXED {
+                continue;
+            }
+            let target = self.text_targets.get(k).copied().unwrap_or(1.0);
+            if self.rhs[b[2] as usize] >= PROMOTE * target {
+                self.text_hold[k] = TEXT_HOLD;
+                held += 1;
+            }
+        }
+        held
+    }
+
     /// Assembles values for the current pattern, factorizes and solves; returns snapped
     /// positions and scales.
-    fn numeric_solve(&mut self, mesh: &Mesh) -> Result<(Vec<DVec2>, Vec<f64>), Error> {
+    fn numeric_solve(&mut self, mesh: &Mesh) -> Result<(Vec<DVec2>, Vec<[f64; 2]>), Error> {
         self.rhs.clear();
         self.rhs.resize(self.layout.n, 0.0);
         self.system.clear_values();
@@ -434,6 +586,7 @@ impl Solver {
             delta: &self.delta,
             anchors: &self.anchors,
             text_targets: &self.text_targets,
+            text_hold: &self.text_hold,
             enhance: &self.enhance,
         };
         let system = &mut self.system;
@@ -460,18 +613,17 @@ impl Solver {
         let positions: Vec<DVec2> = (0..mesh.vertices().len())
             .map(|i| DVec2::new(snap(l.x[i].eval(u)), snap(l.y[i].eval(u))))
             .collect();
-        let positions: Vec<DVec2> = positions;
         // A triangle outside the system keeps the scale its deformed shape shows.
         let scales = (0..mesh.triangles().len())
             .map(|t| {
-                if l.s_var[t] != FIXED {
-                    return u[l.s_var[t] as usize];
+                if l.s_var[t][0] != FIXED {
+                    return l.s_var[t].map(|v| u[v as usize]);
                 }
                 let p = mesh.triangle_points(t);
                 let q = mesh.triangles()[t].map(|v| positions[v as usize]);
                 let a0 = (p[1] - p[0]).perp_dot(p[2] - p[0]);
                 let a1 = (q[1] - q[0]).perp_dot(q[2] - q[0]);
-                (a1 / a0).max(0.0).sqrt()
+                [(a1 / a0).max(0.0).sqrt(); 2]
             })
             .collect();
         Ok((positions, scales))
@@ -570,27 +722,37 @@ mod tests {
         let terms = energy::TriangleTerms {
             lambda: &solver.lambda,
             boost: &ones,
-            delta: &ones,
+            delta: &solver.delta,
             anchors: &[],
             text_targets: &[],
+            text_hold: &[],
             enhance: &[],
         };
+        let layout = Layout::new(&mesh, target);
         let e0 = energy::energy_of(
             &mesh,
+            &layout,
             &geom,
             &terms,
             &solver.params,
             warp.positions(),
             warp.scales(),
         );
-        let layout = Layout::new(&mesh, target);
         for v in (0..mesh.vertices().len()).step_by(7) {
             if layout.x[v].single().is_none() {
                 continue;
             }
             let mut p = warp.positions().to_vec();
             p[v].x += 0.05;
-            let e1 = energy::energy_of(&mesh, &geom, &terms, &solver.params, &p, warp.scales());
+            let e1 = energy::energy_of(
+                &mesh,
+                &layout,
+                &geom,
+                &terms,
+                &solver.params,
+                &p,
+                warp.scales(),
+            );
             assert!(
                 e1 >= e0 - 1e-6 * e0.abs().max(1.0),
                 "vertex {v}: {e1} < {e0}"

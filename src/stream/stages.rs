@@ -12,7 +12,7 @@ use crate::mesh::{find_marks, IncrementalMesh, Mark, Mesh, MeshOptions, TileMask
 use crate::raster::snap;
 use crate::render::{Floating, Renderer};
 use crate::saliency::{Rect, Vsm, VsmBuilder, DILATION_RADIUS};
-use crate::solve::{EnergyParams, SolveStats, Solver, Warp};
+use crate::solve::{EnergyParams, SalientFit, SolveStats, Solver, Warp};
 use crate::structure::Structure;
 use glam::DVec2;
 use std::collections::{HashMap, HashSet};
@@ -293,7 +293,7 @@ pub(crate) struct SolveStage {
     solver: Solver,
     target: Size,
     prev: Option<(Arc<Mesh>, Arc<Warp>)>,
-    salient_scale: f64,
+    salient_fit: SalientFit,
     /// Content enhancement (§5.4), when it changes anything.
     enhance: Option<Enhancement>,
 }
@@ -313,7 +313,7 @@ impl SolveStage {
             solver: Solver::new(params),
             target,
             prev: None,
-            salient_scale: 1.0,
+            salient_fit: SalientFit::default(),
             enhance: None,
         }
     }
@@ -333,7 +333,8 @@ impl SolveStage {
                     return Ok(Solved {
                         warp: pw.clone(),
                         stats: SolveStats {
-                            salient_scale: self.salient_scale,
+                            salient_scale: self.salient_fit.similar,
+                            salient_fit: self.salient_fit.free,
                             ..SolveStats::default()
                         },
                         decision: Decision::Reuse,
@@ -383,7 +384,7 @@ impl SolveStage {
                     self.target,
                     &fixed,
                     &anchors,
-                    self.salient_scale,
+                    self.salient_fit,
                 )? {
                     let warp = Arc::new(warp);
                     self.prev = Some((mesh.clone(), warp.clone()));
@@ -408,7 +409,10 @@ impl SolveStage {
             }
             None => self.solver.solve(mesh, vsm, self.target)?,
         };
-        self.salient_scale = stats.salient_scale;
+        self.salient_fit = SalientFit {
+            free: stats.salient_fit,
+            similar: stats.salient_scale,
+        };
         let warp = Arc::new(warp);
         self.prev = Some((mesh.clone(), warp.clone()));
         // A full solve changes the whole frame, also when it stands in for an update whose
