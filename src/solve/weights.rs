@@ -5,6 +5,9 @@ use crate::mesh::Mesh;
 use crate::raster::{rasterize, FixedPoint};
 use crate::saliency::Vsm;
 
+/// Normalized Sobel magnitude below which a triangle's pixels count as one flat colour.
+const FLAT_EDGE: f32 = 0.02;
+
 /// `λ_t` for every triangle of `mesh`, into `out`. A triangle too small to hold a pixel centre
 /// takes the value at its centroid; with `hold_fans`, a mark's fan triangle is fully salient.
 pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &mut Vec<f64>) {
@@ -12,6 +15,7 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &m
     let (w, h) = (grid.width, grid.height);
     let inv = 1.0 / vsm.scale() as f64;
     let values = vsm.values();
+    let edges = vsm.edges();
     out.clear();
     out.reserve(mesh.triangles().len());
     for t in 0..mesh.triangles().len() {
@@ -20,11 +24,23 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &m
         let fp = p.map(|q| FixedPoint::from_f64(q.x, q.y));
         let mut sum = 0.0f64;
         let mut n = 0u32;
+        let mut edge = 0f32;
         rasterize(fp, w, h, |y, x0, x1| {
-            let row = &values[y as usize * w as usize..][x0 as usize..x1 as usize];
+            let i = y as usize * w as usize;
+            let row = &values[i..][x0 as usize..x1 as usize];
             sum += sum_f32(row);
             n += x1 - x0;
+            edge = edges[i..][x0 as usize..x1 as usize]
+                .iter()
+                .fold(edge, |a, &e| a.max(e));
         });
+        // A triangle of one flat colour looks the same however it is deformed: salient or not,
+        // it gives way like empty ground (a header bar around its labels, the inside of a
+        // panel), and the edges that bound it, in triangles of their own, keep their shape.
+        if n > 0 && edge < FLAT_EDGE {
+            out.push(0.0);
+            continue;
+        }
         if n == 0 {
             let c = (p[0] + p[1] + p[2]) / 3.0;
             let x = (c.x as usize).min(w as usize - 1);
@@ -60,4 +76,44 @@ fn sum_f32(row: &[f32]) -> f64 {
     }
     let tail: f32 = rest.iter().sum();
     lanes.iter().map(|&v| v as f64).sum::<f64>() + tail as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::saliency::VsmBuilder;
+    use crate::{Image, Size};
+    use glam::DVec2;
+
+    /// A red square on white is salient inside and out to its rim; a triangle inside it
+    /// (no edge) gives way, one across its rim keeps the VSM's mean.
+    #[test]
+    fn flat_triangles_give_way_edged_ones_do_not() {
+        let size = Size::new(200, 200).unwrap();
+        let mut img = Image::filled(size, [255; 4]);
+        for y in 40..160 {
+            for x in 40..160 {
+                img.set(x, y, [220, 30, 30, 255]);
+            }
+        }
+        let vsm = VsmBuilder::full_resolution().build(img.as_ref());
+        assert!(vsm.get(100, 100) > 0.2, "the square is salient");
+        let pts = [(70.0, 70.0), (130.0, 70.0), (100.0, 120.0), (20.0, 100.0)];
+        let mesh = Mesh::from_points(size, pts.map(|(x, y)| DVec2::new(x, y)), Vec::new());
+        let mut lambda = Vec::new();
+        triangle_saliency(&mesh, &vsm, false, &mut lambda);
+        let find = |c: DVec2| {
+            (0..mesh.triangles().len())
+                .find(|&t| {
+                    let [a, b, d] = mesh.triangle_points(t);
+                    let s = |p: DVec2, q: DVec2| (q - p).perp_dot(c - p) >= 0.0;
+                    s(a, b) && s(b, d) && s(d, a)
+                })
+                .unwrap()
+        };
+        let inside = find(DVec2::new(100.0, 85.0));
+        let across = find(DVec2::new(50.0, 95.0));
+        assert_eq!(lambda[inside], 0.0);
+        assert!(lambda[across] > 0.05, "rim triangle λ {}", lambda[across]);
+    }
 }
