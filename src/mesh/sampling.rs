@@ -126,21 +126,44 @@ pub(crate) fn sample_key_points(vsm: &Vsm, alpha: f32, marks: &[Mark]) -> Vec<Ke
         exclusion.insert_disc(m.center, m.ring_radius * RING_EXCLUSION, excl_r.len() - 1);
     }
 
-    for level in [
-        SaliencyLevel::Salient,
-        SaliencyLevel::Context,
-        SaliencyLevel::Background,
-    ] {
-        let i = iv[level.index()];
-        for p in cell_centroids(vsm, level, i) {
-            if exclusion.in_disc(p, &excl_r) || grid.any_within(p, 0.5 * i) {
-                continue;
+    // The lattices' share of the budget is estimated from level areas ([`intervals`]); thin
+    // salient content (graph edges, outlines) touches more cells than its area suggests, so
+    // the lattices are counted and, when over, sampled again with wider intervals: the
+    // budget holds for the whole mesh, as Eq. 7 means it to.
+    let fixed = out.len();
+    let room = (budget - fixed as f64).max(budget * 0.25);
+    let mut iv = iv;
+    for attempt in 0..LATTICE_ATTEMPTS {
+        let mut trial = grid.clone();
+        out.truncate(fixed);
+        for level in [
+            SaliencyLevel::Salient,
+            SaliencyLevel::Context,
+            SaliencyLevel::Background,
+        ] {
+            let i = iv[level.index()];
+            for p in cell_centroids(vsm, level, i) {
+                if exclusion.in_disc(p, &excl_r) || trial.any_within(p, 0.5 * i) {
+                    continue;
+                }
+                push(&mut out, &mut trial, p, KeyPointKind::Lattice(level));
             }
-            push(&mut out, &mut grid, p, KeyPointKind::Lattice(level));
         }
+        let lattice = (out.len() - fixed) as f64;
+        if lattice <= room * 1.02 || attempt + 1 == LATTICE_ATTEMPTS {
+            break;
+        }
+        // Widened by the whole ratio, not its square root: an area's points fall with the
+        // square of the interval, a line's only with the interval, and it is lines that
+        // overshoot.
+        let f = lattice / room;
+        iv = iv.map(|i| i * f);
     }
     out
 }
+
+/// Samplings of the lattices at most, to bring them within the budget.
+const LATTICE_ATTEMPTS: usize = 3;
 
 /// Points along the four sides (corners excluded), spaced by the interval of the most salient
 /// level within one fine interval of the side.
@@ -239,6 +262,7 @@ fn cell_centroids(vsm: &Vsm, level: SaliencyLevel, interval: f64) -> Vec<DVec2> 
 }
 
 /// A uniform bucket grid for "is there a point within r" queries.
+#[derive(Clone)]
 struct PointGrid {
     cell: f64,
     cols: usize,
@@ -316,6 +340,31 @@ mod tests {
     }
 
     /// Dense on salient content, sparse on empty background, within budget.
+    /// Thin salient content (the edges of a graph) touches many more lattice cells than its
+    /// area suggests; the mesh still stays within the budget `w·h/α²`.
+    #[test]
+    fn thin_lines_stay_within_budget() {
+        let size = Size::new(600, 400).unwrap();
+        let mut img = Image::filled(size, [250; 4]);
+        // Parallel diagonal rules 48 px apart (no crossings: those would be found as marks).
+        for k in 0..30i32 {
+            for x in 0..600i32 {
+                let y = x / 2 - 300 + 48 * k;
+                if (0..400).contains(&y) {
+                    img.set(x as u32, y as u32, [90, 90, 90, 255]);
+                }
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        let mesh = Mesh::build(&vsm, &MeshOptions::default());
+        let budget = 600.0 * 400.0 / 400.0;
+        assert!(
+            mesh.vertices().len() as f64 <= budget * 1.05,
+            "{} vertices for a budget of {budget}",
+            mesh.vertices().len()
+        );
+    }
+
     #[test]
     fn density_follows_saliency_and_budget_holds() {
         let size = Size::new(400, 300).unwrap();
