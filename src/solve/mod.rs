@@ -207,6 +207,9 @@ const TEXT_HOLD: f64 = 100.0;
 /// Solves with held text before giving the hold up.
 const HOLD_ATTEMPTS: usize = 3;
 
+/// Folds after the first solve that local untangling may take care of.
+const FEW_FOLDS: usize = 8;
+
 /// Re-solves with tripled weights on folded triangles, at most this many times.
 const REPAIR_ROUNDS: usize = 8;
 const REPAIR_FACTOR: f64 = 3.0;
@@ -456,6 +459,34 @@ impl Solver {
         let mut pos = self.numeric_solve(mesh)?;
         let mut bad = repair::folded(mesh, &pos.0);
         stats.folds_first_solve = bad.len();
+        // A few folds in empty ground are undone locally (moving a vertex or two towards its
+        // neighbours) instead of by solving the whole system again with them held firmer.
+        if !bad.is_empty()
+            && bad.len() <= FEW_FOLDS
+            && bad
+                .iter()
+                .all(|&t| self.lambda[t] < self.params.prior_threshold)
+        {
+            let vt = repair::VertexTriangles::new(mesh);
+            // Not next to a mark: moving its ring would dent it.
+            let fans = mesh.fan_triangles();
+            let by_mark = bad.iter().any(|&t| {
+                mesh.triangles()[t].iter().any(|&v| {
+                    vt.of(v as usize)
+                        .iter()
+                        .any(|&u| fans.get(u as usize).copied().unwrap_or(false))
+                })
+            });
+            if !by_mark {
+                let mut local = pos.0.clone();
+                let moved = repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut local);
+                if repair::folded(mesh, &local).is_empty() {
+                    pos.0 = local;
+                    stats.untangled = moved;
+                    bad.clear();
+                }
+            }
+        }
         self.repair_rounds(mesh, &mut pos, &mut bad, &mut stats)?;
         if bad.is_empty() && self.hold_text() > 0 {
             let before = (pos.clone(), self.rhs.clone(), self.boost.clone());
