@@ -207,7 +207,7 @@ impl Enhancement {
         let size = vsm.size();
         let grid = vsm.grid_size();
         let cell = vsm.scale() as f64;
-        let (values, _) = out.planes_mut();
+        let (values, _, edges) = out.planes_mut();
         for gy in 0..grid.height as usize {
             for gx in 0..grid.width as usize {
                 let (x, y) = ((gx as f64 + 0.5) * cell, (gy as f64 + 0.5) * cell);
@@ -217,8 +217,9 @@ impl Enhancement {
                         .as_ref()
                         .is_some_and(|m| m.factor_at(x, y, size) != 1.0);
                 if held {
-                    let v = &mut values[gy * grid.width as usize + gx];
-                    *v = v.max(HELD_SALIENCY);
+                    let i = gy * grid.width as usize + gx;
+                    values[i] = values[i].max(HELD_SALIENCY);
+                    edges[i] = edges[i].max(HELD_SALIENCY);
                 }
             }
         }

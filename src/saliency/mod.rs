@@ -142,9 +142,11 @@ impl Vsm {
         }
     }
 
-    /// The values and importance planes, for raising them where vector marks lie (§5.3).
-    pub(crate) fn planes_mut(&mut self) -> (&mut [f32], &mut [f32]) {
-        (&mut self.values, &mut self.importance)
+    /// The values, importance and edge planes, for raising them where vector marks lie (§5.3)
+    /// or content is held. A raised cell should raise its edge too: the solver lets flat
+    /// cells (no edge) give way like empty ground.
+    pub(crate) fn planes_mut(&mut self) -> (&mut [f32], &mut [f32], &mut [f32]) {
+        (&mut self.values, &mut self.importance, &mut self.edges)
     }
 
     /// A VSM from given values (clamped to `[0, 1]`), e.g. a user-painted map. Importance and

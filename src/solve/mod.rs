@@ -481,6 +481,18 @@ impl Solver {
                 let mut local = pos.0.clone();
                 let moved = repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut local);
                 if repair::folded(mesh, &local).is_empty() {
+                    // Untangling moves private coordinates only (one unknown each): the
+                    // solution vector, which snapping reads, takes the moved values too.
+                    for (v, (p, q)) in local.iter().zip(&pos.0).enumerate() {
+                        if p == q {
+                            continue;
+                        }
+                        for (z, c) in [(&self.layout.x[v], p.x), (&self.layout.y[v], p.y)] {
+                            if let Some(var) = z.single().filter(|_| self.layout.is_private(z)) {
+                                self.rhs[var as usize] = c;
+                            }
+                        }
+                    }
                     pos.0 = local;
                     stats.untangled = moved;
                     bad.clear();

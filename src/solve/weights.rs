@@ -37,7 +37,9 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &m
         // A triangle of one flat colour looks the same however it is deformed: salient or not,
         // it gives way like empty ground (a header bar around its labels, the inside of a
         // panel), and the edges that bound it, in triangles of their own, keep their shape.
-        if n > 0 && edge < FLAT_EDGE {
+        // A mark's fan is the mark, flat or not.
+        let fan = mesh.fan_triangles().get(t).copied().unwrap_or(false);
+        if n > 0 && edge < FLAT_EDGE && !fan {
             out.push(0.0);
             continue;
         }
@@ -115,5 +117,32 @@ mod tests {
         let across = find(DVec2::new(50.0, 95.0));
         assert_eq!(lambda[inside], 0.0);
         assert!(lambda[across] > 0.05, "rim triangle λ {}", lambda[across]);
+    }
+
+    /// Content raised in the VSM (a vector layer's marks, held regions) raises its edges too,
+    /// so it is never taken for flat ground, even over a flat raster.
+    #[test]
+    fn raised_content_is_not_flat() {
+        let size = Size::new(200, 200).unwrap();
+        let img = Image::filled(size, [255; 4]);
+        let mut vsm = VsmBuilder::full_resolution().build(img.as_ref());
+        let (values, _, edges) = vsm.planes_mut();
+        for y in 40..160 {
+            for x in 40..160 {
+                values[y * 200 + x] = 1.0;
+                edges[y * 200 + x] = 1.0;
+            }
+        }
+        let pts = [(70.0, 70.0), (130.0, 70.0), (100.0, 120.0)];
+        let mesh = Mesh::from_points(size, pts.map(|(x, y)| DVec2::new(x, y)), Vec::new());
+        let mut lambda = Vec::new();
+        triangle_saliency(&mesh, &vsm, false, &mut lambda);
+        let inside = (0..mesh.triangles().len())
+            .find(|&t| {
+                let c = mesh.triangle_points(t).iter().sum::<DVec2>() / 3.0;
+                (c - DVec2::new(100.0, 87.0)).length() < 1.0
+            })
+            .expect("the inner triangle");
+        assert!(lambda[inside] > 0.9, "λ {}", lambda[inside]);
     }
 }

@@ -108,17 +108,19 @@ fn cells_in(shape: &Shape, cell: f64, cols: usize, rows: usize, mut f: impl FnMu
     }
 }
 
-/// `vsm` with values and importance raised to 1 in the footprint of every point mark and
-/// polyline of `layer` (edges are connectors: they may stretch, so they are not raised).
+/// `vsm` with values, importance and edges raised to 1 in the footprint of every point mark
+/// and polyline of `layer` (graph edges are connectors: they may stretch, so they are not
+/// raised).
 pub(crate) fn raise(vsm: &mut Vsm, layer: &VectorLayer) {
     let grid = vsm.grid_size();
     let (cols, rows) = (grid.width as usize, grid.height as usize);
     let cell = vsm.scale() as f64;
-    let (values, importance) = vsm.planes_mut();
+    let (values, importance, edges) = vsm.planes_mut();
     for s in shapes(layer, RAISE_MARGIN_PX, false) {
         cells_in(&s, cell, cols, rows, |i| {
             values[i] = 1.0;
             importance[i] = 1.0;
+            edges[i] = 1.0;
         });
     }
 }
