@@ -202,6 +202,19 @@ impl Mesh {
         &self.roles
     }
 
+    /// The text block triangle `t` lies inside (all three corners bound it), if any.
+    pub fn triangle_block(&self, t: usize) -> Option<u32> {
+        let tri = self.triangles.get(t)?;
+        let b = self.roles.get(tri[0] as usize)?.block?;
+        tri.iter()
+            .all(|&v| {
+                self.roles
+                    .get(v as usize)
+                    .is_some_and(|r| r.block == Some(b))
+            })
+            .then_some(b)
+    }
+
     /// The structure the mesh was built around, if any.
     pub fn structure(&self) -> Option<&Structure> {
         self.structure.as_deref()

@@ -301,14 +301,8 @@ impl Layout {
                 .iter()
                 .any(|&v| !l.x[v as usize].is_fixed() || !l.y[v as usize].is_fixed());
             if active {
-                let similar = fans.get(t).copied().unwrap_or(false)
-                    || (roles
-                        .get(tri[0] as usize)
-                        .is_some_and(|r| r.block.is_some())
-                        && tri.iter().all(|&v| {
-                            roles.get(v as usize).map(|r| r.block)
-                                == roles.get(tri[0] as usize).map(|r| r.block)
-                        }));
+                let similar =
+                    fans.get(t).copied().unwrap_or(false) || mesh.triangle_block(t).is_some();
                 if similar {
                     l.s_var[t] = [next; 2];
                     next += 1;

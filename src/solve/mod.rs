@@ -411,16 +411,14 @@ impl Solver {
         }
         // A triangle inside a text block aims at the block's own scale.
         if let Some(st) = mesh.structure() {
-            let roles = mesh.roles();
-            for (t, tri) in mesh.triangles().iter().enumerate() {
-                let b = roles[tri[0] as usize].block;
-                if b.is_some() && tri.iter().all(|&v| roles[v as usize].block == b) {
-                    let k = b.unwrap_or(0) as usize;
-                    if k < st.text.len() {
-                        self.delta[t] = [self.text_targets.get(k).copied().unwrap_or(1.0)
-                            * self.enhance.get(t).copied().unwrap_or(1.0);
-                            2];
-                    }
+            for t in 0..mesh.triangles().len() {
+                let Some(k) = mesh.triangle_block(t).map(|b| b as usize) else {
+                    continue;
+                };
+                if k < st.text.len() {
+                    self.delta[t] = [self.text_targets.get(k).copied().unwrap_or(1.0)
+                        * self.enhance.get(t).copied().unwrap_or(1.0);
+                        2];
                 }
             }
         }
