@@ -9,6 +9,12 @@
 //! * **saliency mean** (the paper's Fig. 15): the VSM of the *output* image, built afresh and
 //!   normalized on its own like any VSM, averaged over the output's pixels. Higher means the
 //!   output spends more of its pixels on what the saliency map calls important.
+//! * **saliency carried** (the same figure read as Avidan and Shamir's "preserved energy", the
+//!   paper's ref. [2], from which Fig. 15 takes its measure): the *source's* VSM carried by the
+//!   mapping, averaged over the output's pixels, `Σ_t Σ_{p∈t} S(p)·det J_t / |out|`. A pixel of
+//!   the output counts what the source pixel it shows was worth, so a method cannot score by
+//!   making edges of its own (aliasing, squeezed strokes); linear scaling keeps the source's
+//!   mean, a method that keeps what matters at its size and squeezes the ground raises it.
 //! * **saliency kept**: `Σ S_out / Σ S_src`, the output's total saliency (sum of its own VSM
 //!   over its pixels) over the source's. Shrinking by linear scaling to half the width keeps
 //!   about half; a method that keeps the marks at their size and takes the change out of empty
@@ -52,6 +58,8 @@ pub struct MethodMetrics {
     pub size: Size,
     /// Mean VSM of the output's pixels (Fig. 15).
     pub saliency_mean: f64,
+    /// Mean over the output's pixels of the source VSM they show.
+    pub saliency_carried: f64,
     /// The output's total saliency over the source's.
     pub saliency_kept: f64,
     /// Area-weighted deviation from a similarity on salient content.
@@ -100,7 +108,8 @@ impl MetricsTable {
     }
 
     /// The table as JSON: `{source, target, source_saliency_mean, source_salient_px, rows:
-    /// [{method, width, height, saliency_mean, saliency_kept, distortion, salient_area_kept,
+    /// [{method, width, height, saliency_mean, saliency_carried, saliency_kept, distortion,
+    /// salient_area_kept,
     /// vertices, dof, ms: {vsm, mesh, solve, render, total}}]}`, `null` where not defined.
     pub fn to_json(&self) -> serde_json::Value {
         let rows: Vec<serde_json::Value> = self
@@ -112,6 +121,7 @@ impl MetricsTable {
                     "width": r.size.width,
                     "height": r.size.height,
                     "saliency_mean": r.saliency_mean,
+                    "saliency_carried": r.saliency_carried,
                     "saliency_kept": r.saliency_kept,
                     "distortion": r.distortion,
                     "salient_area_kept": r.salient_area_kept,
@@ -150,6 +160,7 @@ impl fmt::Display for MetricsTable {
             "vertices",
             "DOF",
             "sal.mean",
+            "sal.carried",
             "sal.kept",
             "distortion",
             "sal.area",
@@ -161,7 +172,7 @@ impl fmt::Display for MetricsTable {
         ];
         let opt_u = |v: Option<usize>| v.map_or("-".to_string(), |v| v.to_string());
         let opt_f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
-        let cells: Vec<[String; 13]> = self
+        let cells: Vec<[String; 14]> = self
             .rows
             .iter()
             .map(|r| {
@@ -171,6 +182,7 @@ impl fmt::Display for MetricsTable {
                     opt_u(r.vertices),
                     opt_u(r.dof),
                     format!("{:.3}", r.saliency_mean),
+                    format!("{:.3}", r.saliency_carried),
                     format!("{:.3}", r.saliency_kept),
                     opt_f(r.distortion),
                     opt_f(r.salient_area_kept),
@@ -242,7 +254,7 @@ impl<'a> SourceSaliency<'a> {
     fn measure(&self, out: &MethodOutput) -> MethodMetrics {
         let out_vsm = VsmBuilder::new().build(out.image.as_ref());
         let (out_sum, _) = pixel_sums(&out_vsm);
-        let (distortion, area) = match &out.mapping {
+        let (distortion, area, carried) = match &out.mapping {
             Mapping::Warp { mesh, warp } => self.warp_measures(mesh, warp),
             Mapping::Affine { window } => self.affine_measures(*window, out.image.size()),
             Mapping::Origins(o) => self.origin_measures(o),
@@ -257,6 +269,7 @@ impl<'a> SourceSaliency<'a> {
             method: out.method,
             size: out.image.size(),
             saliency_mean: out_sum / out.image.size().area() as f64,
+            saliency_carried: carried / out.image.size().area() as f64,
             saliency_kept: if self.sum > 0.0 {
                 out_sum / self.sum
             } else {
@@ -270,9 +283,11 @@ impl<'a> SourceSaliency<'a> {
         }
     }
 
-    /// Per triangle: mean source saliency, salient pixel count and Jacobian.
-    fn warp_measures(&self, mesh: &Mesh, warp: &Warp) -> (Option<f64>, Option<f64>) {
+    /// Per triangle: mean source saliency, salient pixel count and Jacobian. Returns
+    /// (distortion, salient area kept, carried saliency sum).
+    fn warp_measures(&self, mesh: &Mesh, warp: &Warp) -> (Option<f64>, Option<f64>, f64) {
         let (w, h) = (self.size.width, self.size.height);
+        let mut carried = 0.0;
         let (mut d_sum, mut d_weight) = (0.0, 0.0);
         let (mut area_out, mut n_total) = (0.0, 0usize);
         for t in 0..mesh.triangles().len() {
@@ -298,6 +313,7 @@ impl<'a> SourceSaliency<'a> {
                 sum / n as f64
             };
             let Some(j) = jacobian(p, q) else { continue };
+            carried += sum * j.determinant().max(0.0);
             if salient > 0 {
                 area_out += salient as f64 * j.determinant();
                 n_total += salient;
@@ -310,15 +326,16 @@ impl<'a> SourceSaliency<'a> {
         }
         let distortion = (d_weight > 0.0).then(|| d_sum / d_weight);
         let area = (self.salient > 0).then(|| area_out / n_total.max(1) as f64);
-        (distortion, area)
+        (distortion, area, carried)
     }
 
     /// A source window scaled to the whole output.
-    fn affine_measures(&self, window: [f64; 4], out: Size) -> (Option<f64>, Option<f64>) {
+    fn affine_measures(&self, window: [f64; 4], out: Size) -> (Option<f64>, Option<f64>, f64) {
         let [x0, y0, x1, y1] = window;
         let sx = out.width as f64 / (x1 - x0).max(1e-9);
         let sy = out.height as f64 / (y1 - y0).max(1e-9);
         let mut inside = 0usize;
+        let mut sum = 0.0f64;
         let (xa, xb) = (
             x0.max(0.0).ceil() as u32,
             (x1.min(self.size.width as f64)) as u32,
@@ -329,17 +346,19 @@ impl<'a> SourceSaliency<'a> {
         );
         for y in ya..yb {
             for x in xa..xb {
-                inside += (self.vsm.level(x, y) == SaliencyLevel::Salient) as usize;
+                let v = self.vsm.get(x, y);
+                sum += v as f64;
+                inside += (SaliencyLevel::of(v) == SaliencyLevel::Salient) as usize;
             }
         }
         let j = DMat2::from_cols(DVec2::new(sx, 0.0), DVec2::new(0.0, sy));
         let distortion = (inside > 0).then(|| similarity_deviation(j));
         let area = (self.salient > 0).then(|| inside as f64 * sx * sy / self.salient as f64);
-        (distortion, area)
+        (distortion, area, sum * sx * sy)
     }
 
     /// Source positions of every output pixel (seam carving).
-    fn origin_measures(&self, o: &crate::baseline::OriginMap) -> (Option<f64>, Option<f64>) {
+    fn origin_measures(&self, o: &crate::baseline::OriginMap) -> (Option<f64>, Option<f64>, f64) {
         let size = o.size();
         let (w, h) = (size.width, size.height);
         let (sw, sh) = (self.size.width, self.size.height);
@@ -348,12 +367,15 @@ impl<'a> SourceSaliency<'a> {
             DVec2::new(a as f64, b as f64)
         };
         let (mut d_sum, mut d_weight, mut kept) = (0.0, 0.0, 0usize);
+        let mut carried = 0.0f64;
         for y in 0..h {
             for x in 0..w {
                 let p = at(x, y);
                 let sx = (p.x.round().max(0.0) as u32).min(sw - 1);
                 let sy = (p.y.round().max(0.0) as u32).min(sh - 1);
-                if self.vsm.level(sx, sy) != SaliencyLevel::Salient {
+                let v = self.vsm.get(sx, sy);
+                carried += v as f64;
+                if SaliencyLevel::of(v) != SaliencyLevel::Salient {
                     continue;
                 }
                 kept += 1;
@@ -379,7 +401,7 @@ impl<'a> SourceSaliency<'a> {
         }
         let distortion = (d_weight > 0.0).then(|| d_sum / d_weight);
         let area = (self.salient > 0).then(|| kept as f64 / self.salient as f64);
-        (distortion, area)
+        (distortion, area, carried)
     }
 }
 

@@ -61,6 +61,15 @@ fn linear_half_width_has_the_analytic_measures() {
     assert!(close(m.distortion.unwrap(), want, 1e-12), "{m:?}");
     assert!(close(m.salient_area_kept.unwrap(), 0.5, 1e-12), "{m:?}");
     assert!(m.vertices.is_none() && m.dof.is_none());
+    // Every source pixel spread over the same share of the output: the source's mean.
+    let src_mean = compare_methods(&img, size(120, 160), &Options::default(), &[Method::Linear])
+        .unwrap()
+        .metrics
+        .source_saliency_mean;
+    assert!(
+        src_mean > 0.01 && close(m.saliency_carried, src_mean, 1e-9),
+        "{m:?} {src_mean}"
+    );
     // Uniform scaling has no distortion, and keeps the area by the square of the scale.
     let out = retarget_with(Method::Linear, &img, size(120, 80), &Options::default()).unwrap();
     let m = measure(&img, &out);
@@ -91,6 +100,11 @@ fn mesh_at_the_same_size_measures_as_the_identity() {
     assert!(m.distortion.unwrap() < 1e-3, "{m:?}");
     assert!(close(m.salient_area_kept.unwrap(), 1.0, 1e-3), "{m:?}");
     assert!(close(m.saliency_kept, 1.0, 1e-6), "{m:?}");
+    let src_mean = m.saliency_mean; // the output is the source
+    assert!(
+        close(m.saliency_carried, src_mean, 1e-3 * src_mean),
+        "{m:?}"
+    );
     assert!(m.vertices.unwrap() > 4 && m.dof.unwrap() > 0);
 }
 
@@ -132,6 +146,11 @@ fn mesh_beats_linear_on_a_scatter() {
     );
     assert!(mesh.saliency_kept > linear.saliency_kept, "{}", c.metrics);
     assert!(mesh.saliency_mean > linear.saliency_mean, "{}", c.metrics);
+    assert!(
+        mesh.saliency_carried > 1.2 * linear.saliency_carried,
+        "{}",
+        c.metrics
+    );
 }
 
 #[test]
