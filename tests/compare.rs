@@ -153,6 +153,33 @@ fn mesh_beats_linear_on_a_scatter() {
     );
 }
 
+/// A scatter made wider at the same height: the mesh grows its discs as one piece (round,
+/// larger: the canvas has room for them), where linear scaling stretches them into ellipses.
+/// Kept at their size, their area would stay near 1 and the output would show less saliency
+/// per pixel than linear scaling; grown by the mean of the axes' scales, it shows as much.
+#[test]
+fn mesh_grows_marks_round_when_the_canvas_grows() {
+    let img = scatter(240, 160, 4);
+    let c = compare_methods(
+        &img,
+        size(380, 160),
+        &Options::default(),
+        &[Method::Mesh, Method::Linear],
+    )
+    .unwrap();
+    let mesh = c.metrics.row(Method::Mesh).unwrap();
+    let linear = c.metrics.row(Method::Linear).unwrap();
+    let area = mesh.salient_area_kept.unwrap();
+    assert!(area > 1.35 && area < 1.8, "{}", c.metrics);
+    assert!(mesh.distortion.unwrap() < 0.1, "{}", c.metrics);
+    assert!(linear.distortion.unwrap() > 0.2, "{}", c.metrics);
+    assert!(
+        mesh.saliency_carried > 0.97 * linear.saliency_carried,
+        "{}",
+        c.metrics
+    );
+}
+
 #[test]
 fn table_prints_aligned_and_serializes() {
     let img = scatter(160, 100, 3);

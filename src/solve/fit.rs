@@ -66,6 +66,52 @@ pub(crate) fn salient_fit_scale(
     threshold: f32,
     text: &[crate::structure::TextBlock],
 ) -> [f64; 2] {
+    let [fit_x, fit_y] = salient_room(vsm, target, threshold, text);
+    let size = vsm.size();
+    let lx = target.width as f64 / size.width as f64;
+    let ly = target.height as f64 / size.height as f64;
+    [
+        fit_x.min(1.0).max(lx.min(1.0)),
+        fit_y.min(1.0).max(ly.min(1.0)),
+    ]
+}
+
+/// The scale marks (which keep their shape) should take. Shrinking: the smaller of the two
+/// axes' fits. Growing: the canvas gives room, and like Wang et al.'s scale-and-stretch (and
+/// the paper's free `s_t`) what matters grows with it, uniformly, by the geometric mean of the
+/// two axes' scales, as far as the salient content's room along each axis allows (a canvas
+/// made wider at the same height lets dots grow only as far as the columns they crowd have
+/// space above and below them).
+pub(crate) fn similar_scale(
+    vsm: &Vsm,
+    target: Size,
+    threshold: f32,
+    text: &[crate::structure::TextBlock],
+    fit: [f64; 2],
+) -> f64 {
+    let size = vsm.size();
+    let lx = target.width as f64 / size.width as f64;
+    let ly = target.height as f64 / size.height as f64;
+    let shrink = fit[0].min(fit[1]);
+    if lx <= 1.0 && ly <= 1.0 {
+        return shrink;
+    }
+    let [rx, ry] = salient_room(vsm, target, threshold, text);
+    (lx.max(1.0) * ly.max(1.0))
+        .sqrt()
+        .min(rx)
+        .min(ry)
+        .max(shrink)
+}
+
+/// `FILL` times the target over the salient content's extent, per axis, unclamped (infinite
+/// without salient content).
+fn salient_room(
+    vsm: &Vsm,
+    target: Size,
+    threshold: f32,
+    text: &[crate::structure::TextBlock],
+) -> [f64; 2] {
     let grid = vsm.grid_size();
     let sc = vsm.scale() as usize;
     let (w, h) = (grid.width as usize, grid.height as usize);
@@ -153,12 +199,7 @@ pub(crate) fn salient_fit_scale(
     } else {
         f64::INFINITY
     };
-    let size = vsm.size();
-    let (lx, ly) = (tw / size.width as f64, th / size.height as f64);
-    [
-        fit_x.min(1.0).max(lx.min(1.0)),
-        fit_y.min(1.0).max(ly.min(1.0)),
-    ]
+    [fit_x, fit_y]
 }
 
 /// The scale each text block can keep, at most 1.

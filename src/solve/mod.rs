@@ -266,15 +266,12 @@ impl Solver {
         vsm: &Vsm,
         target: Size,
     ) -> Result<(Warp, SolveStats), Error> {
-        let fit = fit::salient_fit_scale(
-            vsm,
-            target,
-            self.params.prior_threshold as f32,
-            mesh.structure().map_or(&[], |s| &s.text[..]),
-        );
+        let text = mesh.structure().map_or(&[][..], |s| &s.text[..]);
+        let threshold = self.params.prior_threshold as f32;
+        let free = fit::salient_fit_scale(vsm, target, threshold, text);
         let fit = SalientFit {
-            free: fit,
-            similar: fit[0].min(fit[1]),
+            free,
+            similar: fit::similar_scale(vsm, target, threshold, text, free),
         };
         self.text_targets = mesh.structure().map_or(Vec::new(), |s| {
             fit::text_fit_scales(&s.text, s, mesh.size(), target)
