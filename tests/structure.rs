@@ -199,3 +199,53 @@ fn a_row_of_labels_stays_aligned_and_alike() {
         "tops {tops:?}, bottoms {bottoms:?}"
     );
 }
+
+/// A legend beside a chart that fills its rows (a waffle chart of the election infographics)
+/// keeps its size when the canvas is halved: the chart, which reads as well narrower, gives
+/// up the width the legend's text needs.
+#[test]
+fn a_legend_beside_a_wide_chart_keeps_its_size() {
+    let mut img = Image::filled(Size::new(800, 200).unwrap(), [255; 4]);
+    for j in 0..6u32 {
+        for i in 0..34u32 {
+            let c = if i < 20 {
+                [33, 150, 243, 255]
+            } else {
+                [239, 83, 80, 255]
+            };
+            let (x, y) = (20 + i * 16, 40 + j * 16);
+            rect(&mut img, x, y, x + 14, y + 14, c);
+        }
+    }
+    let labels = ["Clinton (1981473)", "Trump (1769443)", "Others (233715)"];
+    for (i, label) in labels.iter().enumerate() {
+        draw_label(&mut img, 600.0, 50.0 + i as f32 * 26.0, 16.0, label);
+    }
+    // The legend's entries: the widest text blocks right of `x_min`, top to bottom.
+    let legend = |img: &Image, x_min: u32| {
+        let mut b: Vec<_> = Structure::detect(img.as_ref())
+            .text
+            .into_iter()
+            .filter(|b| b.x0 >= x_min)
+            .collect();
+        b.sort_by_key(|b| std::cmp::Reverse(b.x1 - b.x0));
+        b.truncate(3);
+        b.sort_by_key(|b| b.y0);
+        b
+    };
+    let source = legend(&img, 560);
+    assert_eq!(source.len(), 3, "{source:?}");
+    let out = retarget(&img, Size::new(400, 200).unwrap(), &Options::default())
+        .unwrap()
+        .image;
+    let kept = legend(&out, 200);
+    assert_eq!(kept.len(), 3, "{kept:?}");
+    for (s, o) in source.iter().zip(&kept) {
+        let (sw, ow) = ((s.x1 - s.x0) as f64, (o.x1 - o.x0) as f64);
+        let (sh, oh) = (s.line_height as f64, o.line_height as f64);
+        assert!(
+            ow >= 0.95 * sw && oh >= 0.95 * sh,
+            "{ow}x{oh} of {sw}x{sh}: {kept:?}"
+        );
+    }
+}

@@ -11,9 +11,12 @@
 //! threshold; not the VSM, whose 3-px context band makes every line 9 px thick) that are not
 //! part of a thin horizontal line: a rule, an axis or a grid line can shrink along its length at
 //! no cost, so a pixel only counts if it belongs to a vertical run of at least
-//! [`MIN_THICKNESS_PX`] mark pixels. The 98th percentile of the row counts, against the target
-//! width with a margin for the background that must remain between marks, gives the scale;
-//! likewise per column for the height. Rows are not independent (the mesh is continuous), so
+//! [`MIN_THICKNESS_PX`] mark pixels. Per row, the target width with a margin for the
+//! background that must remain between marks, less the width the row's text keeps at its own
+//! fit ([`text_fit_scales`]: text is read, a chart beside it reads as well narrower), over the
+//! row's count, is the scale at which that row fits; the 2nd percentile of those (the 98th
+//! percentile of the counts when there is no text) gives the scale; likewise per column for
+//! the height. Rows are not independent (the mesh is continuous), so
 //! this is a lower bound on the shrink needed, which is the side to err on: a prior slightly
 //! too large is repaired by the fold rounds, a prior too small would shrink marks for nothing.
 
@@ -65,8 +68,9 @@ pub(crate) fn salient_fit_scale(
     target: Size,
     threshold: f32,
     text: &[crate::structure::TextBlock],
+    text_scales: &[f64],
 ) -> [f64; 2] {
-    let [fit_x, fit_y] = salient_room(vsm, target, threshold, text);
+    let [fit_x, fit_y] = salient_room(vsm, target, threshold, text, text_scales);
     let size = vsm.size();
     let lx = target.width as f64 / size.width as f64;
     let ly = target.height as f64 / size.height as f64;
@@ -87,6 +91,7 @@ pub(crate) fn similar_scale(
     target: Size,
     threshold: f32,
     text: &[crate::structure::TextBlock],
+    text_scales: &[f64],
     fit: [f64; 2],
 ) -> f64 {
     let size = vsm.size();
@@ -96,7 +101,7 @@ pub(crate) fn similar_scale(
     if lx <= 1.0 && ly <= 1.0 {
         return shrink;
     }
-    let [rx, ry] = salient_room(vsm, target, threshold, text);
+    let [rx, ry] = salient_room(vsm, target, threshold, text, text_scales);
     (lx.max(1.0) * ly.max(1.0))
         .sqrt()
         .min(rx)
@@ -111,6 +116,7 @@ fn salient_room(
     target: Size,
     threshold: f32,
     text: &[crate::structure::TextBlock],
+    text_scales: &[f64],
 ) -> [f64; 2] {
     let grid = vsm.grid_size();
     let sc = vsm.scale() as usize;
@@ -155,7 +161,7 @@ fn salient_room(
             run[x] = 0;
         }
     }
-    let mut rows: Vec<u32> = thick_v
+    let rows: Vec<u32> = thick_v
         .chunks_exact(w)
         .map(|r| extent(r.iter().copied(), max_gap) * sc as u32)
         .collect();
@@ -181,24 +187,51 @@ fn salient_room(
             len = 0;
         }
     }
-    let pct = |v: &mut Vec<u32>| -> f64 {
-        v.sort_unstable();
-        let i = ((v.len() as f64 - 1.0) * PERCENTILE).round() as usize;
-        v[i.min(v.len() - 1)] as f64
-    };
-    // Both in image pixels (rows were scaled when counted).
-    let (rw, ch) = (pct(&mut rows), pct(&mut cols) * sc as f64);
+    // A row's text keeps the width its own fit gives it ([`text_fit_scales`]); the salient
+    // content beside it shares what is left. Without this a legend beside a waffle chart is
+    // squeezed to unreadable so that the chart can keep the scale the whole row would allow.
+    let mut text_rows = vec![0f64; h];
+    let mut text_cols = vec![0f64; w];
+    for (k, b) in text.iter().enumerate() {
+        let s = text_scales.get(k).copied().unwrap_or(1.0);
+        let (x0, x1) = (
+            (b.x0 as usize / sc).min(w),
+            (b.x1 as usize).div_ceil(sc).min(w),
+        );
+        let (y0, y1) = (
+            (b.y0 as usize / sc).min(h),
+            (b.y1 as usize).div_ceil(sc).min(h),
+        );
+        for r in &mut text_rows[y0..y1] {
+            *r += s * (b.x1 - b.x0) as f64;
+        }
+        for c in &mut text_cols[x0..x1] {
+            *c += s * (b.y1 - b.y0) as f64;
+        }
+    }
     let (tw, th) = (target.width as f64, target.height as f64);
-    let fit_x = if rw > 0.0 {
-        FILL * tw / rw
-    } else {
-        f64::INFINITY
+    // Per line, the scale at which its salient extent fits beside its text; the low
+    // percentile of those (the 98th percentile of extents when there is no text).
+    let fit = |extents: &[u32], text: &[f64], unit: f64, out: f64| -> f64 {
+        let mut f: Vec<f64> = extents
+            .iter()
+            .zip(text)
+            .map(|(&e, &t)| {
+                let e = e as f64 * unit;
+                if e > 0.0 {
+                    (FILL * out - t).max(0.0) / e
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        f.sort_unstable_by(f64::total_cmp);
+        let i = ((f.len() as f64 - 1.0) * (1.0 - PERCENTILE)).round() as usize;
+        f.get(i).copied().unwrap_or(f64::INFINITY)
     };
-    let fit_y = if ch > 0.0 {
-        FILL * th / ch
-    } else {
-        f64::INFINITY
-    };
+    // Rows were counted in image pixels, columns in map cells.
+    let fit_x = fit(&rows, &text_rows, 1.0, tw);
+    let fit_y = fit(&cols, &text_cols, sc as f64, th);
     [fit_x, fit_y]
 }
 
@@ -357,11 +390,11 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[]),
+            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]),
             [1.0, 1.0]
         );
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(400, 100).unwrap(), 0.4, &[]),
+            salient_fit_scale(&vsm, Size::new(400, 100).unwrap(), 0.4, &[], &[]),
             [1.0, 1.0]
         );
     }
@@ -379,7 +412,7 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[]),
+            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]),
             [1.0, 1.0]
         );
 
@@ -393,7 +426,7 @@ mod tests {
             }
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
-        let [sx, sy] = salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[]);
+        let [sx, sy] = salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]);
         assert!((0.5..0.7).contains(&sx), "{sx}");
         // The height does not change: nothing to fit along y but the margin.
         assert!(sy > sx, "{sy}");

@@ -266,16 +266,17 @@ impl Solver {
         vsm: &Vsm,
         target: Size,
     ) -> Result<(Warp, SolveStats), Error> {
-        let text = mesh.structure().map_or(&[][..], |s| &s.text[..]);
-        let threshold = self.params.prior_threshold as f32;
-        let free = fit::salient_fit_scale(vsm, target, threshold, text);
-        let fit = SalientFit {
-            free,
-            similar: fit::similar_scale(vsm, target, threshold, text, free),
-        };
         self.text_targets = mesh.structure().map_or(Vec::new(), |s| {
             fit::text_fit_scales(&s.text, s, mesh.size(), target)
         });
+        let text = mesh.structure().map_or(&[][..], |s| &s.text[..]);
+        let tt = &self.text_targets;
+        let threshold = self.params.prior_threshold as f32;
+        let free = fit::salient_fit_scale(vsm, target, threshold, text, tt);
+        let fit = SalientFit {
+            free,
+            similar: fit::similar_scale(vsm, target, threshold, text, tt, free),
+        };
         self.anchors.clear();
         // Marks' fans held rigid first; where that leaves folds only a blend of the whole warp
         // towards linear scaling would undo (crowded layouts where rigid fans, lines and text
