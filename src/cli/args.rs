@@ -87,7 +87,9 @@ target), grid (the same energy on a uniform grid, Wang et al. 2008), seam carvin
 energy) and axis (axis-aligned deformation, Panozzo et al. 2012). Each panel is labelled with its method and size. Panels keep their relative sizes.
 
 The table on stdout has one row per method: sal.mean, the mean saliency of the output's own
-saliency map (the paper's Fig. 15); sal.kept, the output's total saliency over the source's;
+saliency map (the paper's Fig. 15); sal.carried, the same read as preserved energy (Avidan and
+Shamir): the source's saliency of what each output pixel shows, averaged (linear scaling keeps
+the source's mean); sal.kept, the output's total saliency over the source's;
 distortion, how far salient content is from a similarity (0: only scaled; halving one axis
 linearly: 0.47); sal.area, the output area of the source's salient pixels over their area (1:
 marks kept at their size); vertices and DOF of mesh and grid; milliseconds per stage.
