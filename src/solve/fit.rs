@@ -61,52 +61,37 @@ fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool, max_gap: u32) {
     }
 }
 
-/// The scales salient content should keep along x and y: each in `[its axis's linear scale,
-/// 1]`. Content that keeps its shape takes the smaller.
-pub(crate) fn salient_fit_scale(
+/// The scales salient content should keep: along x and y for content free to scale each axis
+/// apart, each in `[its axis's linear scale, 1]`; and one for marks, which keep their shape.
+///
+/// Shrinking, marks take the smaller of the two axes' fits. Growing, the canvas gives room, and
+/// like Wang et al.'s scale-and-stretch (and the paper's free `s_t`) marks grow with it,
+/// uniformly, by the geometric mean of the two axes' scales, as far as the salient content's
+/// room along each axis allows (a canvas made wider at the same height lets dots grow only as
+/// far as the columns they crowd have space above and below them).
+pub(crate) fn salient_fit(
     vsm: &Vsm,
     target: Size,
     threshold: f32,
     text: &[crate::structure::TextBlock],
     text_scales: &[f64],
-) -> [f64; 2] {
-    let [fit_x, fit_y] = salient_room(vsm, target, threshold, text, text_scales);
-    let size = vsm.size();
-    let lx = target.width as f64 / size.width as f64;
-    let ly = target.height as f64 / size.height as f64;
-    [
-        fit_x.min(1.0).max(lx.min(1.0)),
-        fit_y.min(1.0).max(ly.min(1.0)),
-    ]
-}
-
-/// The scale marks (which keep their shape) should take. Shrinking: the smaller of the two
-/// axes' fits. Growing: the canvas gives room, and like Wang et al.'s scale-and-stretch (and
-/// the paper's free `s_t`) what matters grows with it, uniformly, by the geometric mean of the
-/// two axes' scales, as far as the salient content's room along each axis allows (a canvas
-/// made wider at the same height lets dots grow only as far as the columns they crowd have
-/// space above and below them).
-pub(crate) fn similar_scale(
-    vsm: &Vsm,
-    target: Size,
-    threshold: f32,
-    text: &[crate::structure::TextBlock],
-    text_scales: &[f64],
-    fit: [f64; 2],
-) -> f64 {
-    let size = vsm.size();
-    let lx = target.width as f64 / size.width as f64;
-    let ly = target.height as f64 / size.height as f64;
-    let shrink = fit[0].min(fit[1]);
-    if lx <= 1.0 && ly <= 1.0 {
-        return shrink;
-    }
+) -> ([f64; 2], f64) {
     let [rx, ry] = salient_room(vsm, target, threshold, text, text_scales);
-    (lx.max(1.0) * ly.max(1.0))
-        .sqrt()
-        .min(rx)
-        .min(ry)
-        .max(shrink)
+    let size = vsm.size();
+    let lx = target.width as f64 / size.width as f64;
+    let ly = target.height as f64 / size.height as f64;
+    let free = [rx.min(1.0).max(lx.min(1.0)), ry.min(1.0).max(ly.min(1.0))];
+    let shrink = free[0].min(free[1]);
+    let similar = if lx <= 1.0 && ly <= 1.0 {
+        shrink
+    } else {
+        (lx.max(1.0) * ly.max(1.0))
+            .sqrt()
+            .min(rx)
+            .min(ry)
+            .max(shrink)
+    };
+    (free, similar)
 }
 
 /// `FILL` times the target over the salient content's extent, per axis, unclamped (infinite
@@ -390,11 +375,11 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]),
+            salient_fit(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]).0,
             [1.0, 1.0]
         );
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(400, 100).unwrap(), 0.4, &[], &[]),
+            salient_fit(&vsm, Size::new(400, 100).unwrap(), 0.4, &[], &[]).0,
             [1.0, 1.0]
         );
     }
@@ -412,7 +397,7 @@ mod tests {
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
         assert_eq!(
-            salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]),
+            salient_fit(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]).0,
             [1.0, 1.0]
         );
 
@@ -426,7 +411,7 @@ mod tests {
             }
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
-        let [sx, sy] = salient_fit_scale(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]);
+        let [sx, sy] = salient_fit(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]).0;
         assert!((0.5..0.7).contains(&sx), "{sx}");
         // The height does not change: nothing to fit along y but the margin.
         assert!(sy > sx, "{sy}");

@@ -272,11 +272,8 @@ impl Solver {
         let text = mesh.structure().map_or(&[][..], |s| &s.text[..]);
         let tt = &self.text_targets;
         let threshold = self.params.prior_threshold as f32;
-        let free = fit::salient_fit_scale(vsm, target, threshold, text, tt);
-        let fit = SalientFit {
-            free,
-            similar: fit::similar_scale(vsm, target, threshold, text, tt, free),
-        };
+        let (free, similar) = fit::salient_fit(vsm, target, threshold, text, tt);
+        let fit = SalientFit { free, similar };
         self.anchors.clear();
         // Marks' fans held rigid first; where that leaves folds only a blend of the whole warp
         // towards linear scaling would undo (crowded layouts where rigid fans, lines and text
