@@ -249,3 +249,35 @@ fn a_legend_beside_a_wide_chart_keeps_its_size() {
         );
     }
 }
+
+/// A word's letters without stems ("s", "e", "oy") belong to it: the block of "Crimes" or
+/// "Unemployment" covers the whole word, or its last letters are squeezed as empty ground and
+/// the word is cut ("Crime", "Unempl ment").
+#[test]
+fn words_keep_their_letters_without_stems() {
+    for (word, px) in [
+        ("Unemployment", 14.0f32),
+        ("Crimes", 14.0),
+        ("various examples", 16.0),
+    ] {
+        // Letters set 2 px apart, as UI fonts render them: each its own component.
+        let mut img = Image::filled(Size::new(300, 60).unwrap(), [255; 4]);
+        let mut x = 20.0;
+        for ch in word.chars() {
+            let ch = ch.to_string();
+            draw_label(&mut img, x, 20.0, px, &ch);
+            x += vizretarget::compare::text_width(&ch, px) + 2.0;
+        }
+        let ink: Vec<u32> = (0..300u32)
+            .filter(|&x| (0..60).any(|y| img.get(x, y)[0] < 160))
+            .collect();
+        let (ink0, ink1) = (ink[0], ink[ink.len() - 1] + 1);
+        let blocks = Structure::detect(img.as_ref()).text;
+        let x0 = blocks.iter().map(|b| b.x0).min().unwrap_or(300);
+        let x1 = blocks.iter().map(|b| b.x1).max().unwrap_or(0);
+        assert!(
+            blocks.len() == 1 && x0 <= ink0 + 1 && x1 + 1 >= ink1,
+            "{word}: ink {ink0}..{ink1}, blocks {blocks:?}"
+        );
+    }
+}

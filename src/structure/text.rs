@@ -59,9 +59,14 @@ impl Comp {
 pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<TextBlock> {
     let mut stroke = stroke_mask(l, w, h);
     clear_lines(&mut stroke, w, h, lines);
-    let mut comps = components(&stroke, w, h);
-    comps.retain_mut(|c| glyph_ink(l, w, c) && c.ink <= MAX_INK);
-    let lines = group_lines(comps);
+    let mut glyphs = Vec::new();
+    for mut c in components(&stroke, w, h) {
+        let stems = glyph_ink(l, w, &mut c);
+        if c.ink <= MAX_INK {
+            glyphs.push((c, stems));
+        }
+    }
+    let lines = group_lines(glyphs);
     merge_blocks(lines)
 }
 
@@ -226,9 +231,13 @@ fn glyph_ink(l: &[u8], w: usize, c: &mut Comp) -> bool {
 
 // Glyph indices i, j address the sorted list and the union-find parents together.
 #[allow(clippy::needless_range_loop)]
-/// Joins glyphs into text lines (union-find over near neighbours in reading direction).
-fn group_lines(mut comps: Vec<Comp>) -> Vec<(Comp, u32, usize)> {
-    comps.sort_by_key(|c| (c.x0, c.y0));
+/// Joins glyphs into text lines (union-find over near neighbours in reading direction). A
+/// glyph flagged without stems ([`glyph_ink`]: "s", "oy", "ce", letters of curves alone) only
+/// joins a line through a neighbour with stems, never another stemless one: the trailing "s"
+/// of "Crimes" and the "oy" of "Unemployment" belong to their words (left out, they are
+/// squeezed as ground and the word is cut), while a cluster of dots still makes no line.
+fn group_lines(mut comps: Vec<(Comp, bool)>) -> Vec<(Comp, u32, usize)> {
+    comps.sort_by_key(|(c, _)| (c.x0, c.y0));
     let n = comps.len();
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(p: &mut [usize], mut i: usize) -> usize {
@@ -239,11 +248,14 @@ fn group_lines(mut comps: Vec<Comp>) -> Vec<(Comp, u32, usize)> {
         i
     }
     for i in 0..n {
-        let a = comps[i];
+        let (a, sa) = comps[i];
         for j in i + 1..n {
-            let b = comps[j];
+            let (b, sb) = comps[j];
             if b.x0 > a.x1 + MAX_H {
                 break;
+            }
+            if !sa && !sb {
+                continue;
             }
             let (ha, hb) = (a.h(), b.h());
             let overlap = a.y1.min(b.y1) as i64 - a.y0.max(b.y0) as i64;
@@ -257,11 +269,13 @@ fn group_lines(mut comps: Vec<Comp>) -> Vec<(Comp, u32, usize)> {
             }
         }
     }
-    let mut groups: std::collections::BTreeMap<usize, (Comp, u32, usize)> = Default::default();
+    // Per group: its box, line height, glyphs and glyphs with stems.
+    let mut groups: std::collections::BTreeMap<usize, (Comp, u32, usize, usize)> =
+        Default::default();
     for i in 0..n {
         let r = find(&mut parent, i);
-        let c = comps[i];
-        let e = groups.entry(r).or_insert((c, c.h(), 0));
+        let (c, stems) = comps[i];
+        let e = groups.entry(r).or_insert((c, c.h(), 0, 0));
         e.0 = Comp {
             x0: e.0.x0.min(c.x0),
             y0: e.0.y0.min(c.y0),
@@ -271,12 +285,14 @@ fn group_lines(mut comps: Vec<Comp>) -> Vec<(Comp, u32, usize)> {
         };
         e.1 = e.1.max(c.h());
         e.2 += 1;
+        e.3 += stems as usize;
     }
     // A lone component is text when it is somewhat wider than tall (two digits that touch:
     // "85"; it is mostly ground, see [`MAX_INK`]); a round or square blob is a mark.
     groups
         .into_values()
-        .filter(|(c, lh, k)| *k >= 2 || c.w() * 4 >= 5 * *lh)
+        .filter(|(c, lh, k, stems)| *stems >= 1 && (*k >= 2 || c.w() * 4 >= 5 * *lh))
+        .map(|(c, lh, k, _)| (c, lh, k))
         .collect()
 }
 
