@@ -313,7 +313,12 @@ impl<'a> SourceSaliency<'a> {
                 sum / n as f64
             };
             let Some(j) = jacobian(p, q) else { continue };
-            carried += sum * j.determinant().max(0.0);
+            // A sliver over no pixel centre still covers output area: at its centre's value.
+            carried += if n == 0 {
+                mean * (cross2(q) / 2.0).max(0.0)
+            } else {
+                sum * j.determinant().max(0.0)
+            };
             if salient > 0 {
                 area_out += salient as f64 * j.determinant();
                 n_total += salient;

@@ -52,7 +52,7 @@
 //!   kept 0.656 → 0.692).
 //! * **Size prior.** Without it, shrinking a canvas shrinks marks too (the scales are free):
 //!   `μ_t` pulls them towards 1 (towards `δ`, which carries the enhancement of §5.4 and the
-//!   fit of [`super::fit`]; on a growing canvas marks aim at the mean of the axes' scales
+//!   fit of [`super::fit`]; on a growing canvas marks aim at the geometric mean of the axes' scales
 //!   instead), only on triangles with `λ_t ≥ 0.4`. Applied to light layers (map regions) too,
 //!   it crushes the gaps between them.
 //!

@@ -64,10 +64,10 @@ fn extent_step(total: &mut u32, gap: &mut Option<u32>, on: bool, max_gap: u32) {
 /// The scales salient content should keep: along x and y for content free to scale each axis
 /// apart, each in `[its axis's linear scale, 1]`; and one for marks, which keep their shape.
 ///
-/// Shrinking, marks take the smaller of the two axes' fits. Growing, the canvas gives room, and
-/// like Wang et al.'s scale-and-stretch (and the paper's free `s_t`) marks grow with it,
-/// uniformly, by the geometric mean of the two axes' scales, as far as the salient content's
-/// room along each axis allows (a canvas made wider at the same height lets dots grow only as
+/// Shrinking, marks take the smaller of the two axes' fits. When the canvas's area grows, it
+/// gives room, and like Wang et al.'s scale-and-stretch (and the paper's free `s_t`) marks grow
+/// with it, uniformly, by the geometric mean of the two axes' scales, as far as the salient
+/// content's room along each axis allows (a canvas made wider at the same height lets dots grow only as
 /// far as the columns they crowd have space above and below them).
 pub(crate) fn salient_fit(
     vsm: &Vsm,
@@ -82,20 +82,18 @@ pub(crate) fn salient_fit(
     let ly = target.height as f64 / size.height as f64;
     let free = [rx.min(1.0).max(lx.min(1.0)), ry.min(1.0).max(ly.min(1.0))];
     let shrink = free[0].min(free[1]);
-    let similar = if lx <= 1.0 && ly <= 1.0 {
+    let grow = (lx * ly).sqrt();
+    let similar = if grow <= 1.0 {
         shrink
     } else {
-        (lx.max(1.0) * ly.max(1.0))
-            .sqrt()
-            .min(rx)
-            .min(ry)
-            .max(shrink)
+        grow.min(rx).min(ry).max(shrink)
     };
     (free, similar)
 }
 
-/// `FILL` times the target over the salient content's extent, per axis, unclamped (infinite
-/// without salient content).
+/// Per axis, the scale at which the salient content fits: `FILL` times the target, less the
+/// width (height) the text beside it keeps, over its extent; unclamped (infinite without
+/// salient content, 0 where text alone fills a line).
 fn salient_room(
     vsm: &Vsm,
     target: Size,
@@ -188,10 +186,10 @@ fn salient_room(
             (b.y1 as usize).div_ceil(sc).min(h),
         );
         for r in &mut text_rows[y0..y1] {
-            *r += s * (b.x1 - b.x0) as f64;
+            *r += s * b.x1.saturating_sub(b.x0) as f64;
         }
         for c in &mut text_cols[x0..x1] {
-            *c += s * (b.y1 - b.y0) as f64;
+            *c += s * b.y1.saturating_sub(b.y0) as f64;
         }
     }
     let (tw, th) = (target.width as f64, target.height as f64);
@@ -415,6 +413,66 @@ mod tests {
         assert!((0.5..0.7).contains(&sx), "{sx}");
         // The height does not change: nothing to fit along y but the margin.
         assert!(sy > sx, "{sy}");
+    }
+
+    /// Marks grow with the canvas's area by the geometric mean of the axes' scales, as far
+    /// as the room of their columns allows; shrinking, they keep the smaller fit.
+    #[test]
+    fn marks_grow_with_a_growing_canvas_as_far_as_the_room_allows() {
+        let size = Size::new(400, 200).unwrap();
+        let mut img = Image::filled(size, [255; 4]);
+        for (cx, cy) in [(50u32, 50u32), (200, 120), (330, 80)] {
+            for y in cy - 5..cy + 5 {
+                for x in cx - 5..cx + 5 {
+                    img.set(x, y, [215, 25, 28, 255]);
+                }
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        let fit = |w, h| salient_fit(&vsm, Size::new(w, h).unwrap(), 0.4, &[], &[]).1;
+        assert!(
+            (fit(800, 200) - 2f64.sqrt()).abs() < 1e-9,
+            "{}",
+            fit(800, 200)
+        );
+        assert!((fit(600, 150) - 1.125f64.sqrt()).abs() < 1e-9);
+        assert_eq!(fit(200, 200), 1.0);
+        assert_eq!(fit(800, 80), 1.0); // area shrinks: no growth
+                                       // A column of marks filling the height has no room to grow into.
+        let mut img = Image::filled(size, [255; 4]);
+        for y in 0..200 {
+            for x in 190..210 {
+                img.set(x, y, [215, 25, 28, 255]);
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        let similar = salient_fit(&vsm, Size::new(800, 200).unwrap(), 0.4, &[], &[]).1;
+        assert_eq!(similar, 1.0);
+    }
+
+    /// Text in a row takes its width off the room the salient content beside it has.
+    #[test]
+    fn text_in_a_row_leaves_the_salient_content_less_room() {
+        let size = Size::new(400, 100).unwrap();
+        let mut img = Image::filled(size, [255; 4]);
+        for y in 20..80 {
+            for x in 20..220 {
+                if (x / 4 + y / 4) % 2 == 0 {
+                    img.set(x, y, [20, 20, 20, 255]);
+                }
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        let target = Size::new(250, 100).unwrap();
+        // The room before clamping to the linear scale (which hides it at this target).
+        let [alone, _] = salient_room(&vsm, target, 0.4, &[], &[]);
+        let legend = [block(260, 30, 380, 70)];
+        let [beside, _] = salient_room(&vsm, target, 0.4, &legend, &[1.0]);
+        let [beside_half, _] = salient_room(&vsm, target, 0.4, &legend, &[0.5]);
+        // (0.85·250 − 120) / extent against 0.85·250 / extent.
+        let want = (0.85 * 250.0 - 120.0) / (0.85 * 250.0);
+        assert!((beside / alone - want).abs() < 0.02, "{beside} / {alone}");
+        assert!(beside_half > beside, "{beside_half} vs {beside}");
     }
 
     fn block(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {

@@ -159,7 +159,7 @@ pub struct SolveStats {
     /// Whether the blend had to be global.
     pub blend_global: bool,
     /// The scale the size prior asked of marks, which keep their shape (1 unless they could
-    /// not fit).
+    /// not fit, or more on a canvas that grows).
     pub salient_scale: f64,
     /// The scales the size prior asked of other salient content along x and y.
     pub salient_fit: [f64; 2],
@@ -359,7 +359,7 @@ impl Solver {
     }
 
     /// Solves with the current `λ_t` on `layout`, the size prior aiming at `fit` along x and y
-    /// (Eq. 13's `δ`; the smaller of the two for what keeps its shape), with the repair rounds;
+    /// (Eq. 13's `δ`; `fit.similar` for what keeps its shape), with the repair rounds;
     /// returns snapped positions, scales, the stats and the triangles still folded.
     fn solve_with(
         &mut self,
