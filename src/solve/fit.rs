@@ -382,10 +382,9 @@ mod tests {
         );
     }
 
-    #[test]
-    fn sparse_marks_keep_scale_one_and_wide_content_shrinks() {
-        let size = Size::new(400, 200).unwrap();
-        let mut img = Image::filled(size, [255; 4]);
+    /// Three 10-px squares far apart on a 400×200 canvas.
+    fn three_marks() -> Image {
+        let mut img = Image::filled(Size::new(400, 200).unwrap(), [255; 4]);
         for (cx, cy) in [(50u32, 50u32), (200, 120), (330, 80)] {
             for y in cy - 5..cy + 5 {
                 for x in cx - 5..cx + 5 {
@@ -393,7 +392,13 @@ mod tests {
                 }
             }
         }
-        let vsm = VsmBuilder::new().build(img.as_ref());
+        img
+    }
+
+    #[test]
+    fn sparse_marks_keep_scale_one_and_wide_content_shrinks() {
+        let size = Size::new(400, 200).unwrap();
+        let vsm = VsmBuilder::new().build(three_marks().as_ref());
         assert_eq!(
             salient_fit(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]).0,
             [1.0, 1.0]
@@ -419,16 +424,7 @@ mod tests {
     /// as the room of their columns allows; shrinking, they keep the smaller fit.
     #[test]
     fn marks_grow_with_a_growing_canvas_as_far_as_the_room_allows() {
-        let size = Size::new(400, 200).unwrap();
-        let mut img = Image::filled(size, [255; 4]);
-        for (cx, cy) in [(50u32, 50u32), (200, 120), (330, 80)] {
-            for y in cy - 5..cy + 5 {
-                for x in cx - 5..cx + 5 {
-                    img.set(x, y, [215, 25, 28, 255]);
-                }
-            }
-        }
-        let vsm = VsmBuilder::new().build(img.as_ref());
+        let vsm = VsmBuilder::new().build(three_marks().as_ref());
         let fit = |w, h| salient_fit(&vsm, Size::new(w, h).unwrap(), 0.4, &[], &[]).1;
         assert!(
             (fit(800, 200) - 2f64.sqrt()).abs() < 1e-9,
@@ -437,9 +433,10 @@ mod tests {
         );
         assert!((fit(600, 150) - 1.125f64.sqrt()).abs() < 1e-9);
         assert_eq!(fit(200, 200), 1.0);
-        assert_eq!(fit(800, 80), 1.0); // area shrinks: no growth
-                                       // A column of marks filling the height has no room to grow into.
-        let mut img = Image::filled(size, [255; 4]);
+        // The area shrinks: no growth.
+        assert_eq!(fit(800, 80), 1.0);
+        // A column of marks filling the height has no room to grow into.
+        let mut img = Image::filled(Size::new(400, 200).unwrap(), [255; 4]);
         for y in 0..200 {
             for x in 190..210 {
                 img.set(x, y, [215, 25, 28, 255]);
