@@ -382,6 +382,17 @@ mod tests {
         );
     }
 
+    /// A dark checkerboard of `cell`-px squares over `xs × ys`: salient in every row it spans.
+    fn checker(img: &mut Image, xs: std::ops::Range<u32>, ys: std::ops::Range<u32>, cell: u32) {
+        for y in ys {
+            for x in xs.clone() {
+                if (x / cell + y / cell).is_multiple_of(2) {
+                    img.set(x, y, [20, 20, 20, 255]);
+                }
+            }
+        }
+    }
+
     /// Three 10-px squares far apart on a 400×200 canvas.
     fn three_marks() -> Image {
         let mut img = Image::filled(Size::new(400, 200).unwrap(), [255; 4]);
@@ -406,13 +417,7 @@ mod tests {
 
         // A salient band 300 px wide in every row cannot keep scale 1 in 200 px.
         let mut img = Image::filled(size, [255; 4]);
-        for y in 0..200 {
-            for x in 50..350 {
-                if (x / 3 + y / 3) % 2 == 0 {
-                    img.set(x, y, [20, 20, 20, 255]);
-                }
-            }
-        }
+        checker(&mut img, 50..350, 0..200, 3);
         let vsm = VsmBuilder::new().build(img.as_ref());
         let [sx, sy] = salient_fit(&vsm, Size::new(200, 200).unwrap(), 0.4, &[], &[]).0;
         assert!((0.5..0.7).contains(&sx), "{sx}");
@@ -452,13 +457,7 @@ mod tests {
     fn text_in_a_row_leaves_the_salient_content_less_room() {
         let size = Size::new(400, 100).unwrap();
         let mut img = Image::filled(size, [255; 4]);
-        for y in 20..80 {
-            for x in 20..220 {
-                if (x / 4 + y / 4) % 2 == 0 {
-                    img.set(x, y, [20, 20, 20, 255]);
-                }
-            }
-        }
+        checker(&mut img, 20..220, 20..80, 4);
         let vsm = VsmBuilder::new().build(img.as_ref());
         let target = Size::new(250, 100).unwrap();
         // The room before clamping to the linear scale (which hides it at this target).
