@@ -639,8 +639,7 @@ impl Solver {
                 k += 1;
             },
         );
-        self.system.factorize()?;
-        self.system.solve(&mut self.rhs)?;
+        self.system.solve_warm(&mut self.rhs)?;
         let u = &self.rhs;
         if u.iter().any(|v| !v.is_finite()) {
             return Err(Error::Solve("non-finite solution".into()));
