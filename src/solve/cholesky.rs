@@ -148,6 +148,10 @@ impl SparseSystem {
         pairs: &[(u32, u32)],
         supernodal: SupernodalThreshold,
     ) -> Result<(), Error> {
+        // Nothing of the last pattern survives, even if this one fails.
+        self.symbolic = None;
+        self.has_factor = false;
+        self.factored = false;
         // The assembly order sorted by (column, row): bucketed by column, then each column's
         // few entries sorted (a comparison sort of all of them took as long as the ordering).
         let mut start = vec![0u32; n + 1];
@@ -234,6 +238,7 @@ impl SparseSystem {
     #[inline]
     pub fn add(&mut self, k: usize, v: f64) {
         self.values[self.slots[k] as usize] += v;
+        self.factored = false;
     }
 
     /// Numeric Cholesky factorization of the current values.
@@ -254,6 +259,8 @@ impl SparseSystem {
             &self.row_idx,
         );
         let a = SparseColMatRef::new(sym, &self.values);
+        // faer writes into the factor before it finds a pivot that is not positive.
+        self.has_factor = false;
         symbolic
             .factorize_numeric_llt::<f64>(
                 &mut self.factor,
@@ -347,11 +354,14 @@ impl SparseSystem {
                 }
             }
         }
-        for a in 0..m {
-            scale = scale.max(u.dense[a * m + a].abs());
+        for v in &u.dense {
+            scale = scale.max(v.abs());
         }
-        // Its Cholesky factor; a negative pivot means a weight went down: no update.
+        // Its Cholesky factor. A negative pivot means a weight went down, a vanishing one
+        // with entries below it a change that is not semi-definite (an off-diagonal entry
+        // that changed alone): no update then.
         let tiny = scale * 1e-13;
+        let negligible = (tiny * scale).sqrt();
         for c in 0..m {
             let (head, tail) = u.dense.split_at_mut(c * m);
             let col = &mut tail[..m];
@@ -369,6 +379,9 @@ impl SparseSystem {
                 return None;
             }
             if d <= tiny {
+                if col[c + 1..].iter().any(|x| x.abs() > negligible) {
+                    return None;
+                }
                 col[c..].fill(0.0);
                 continue;
             }
@@ -398,6 +411,11 @@ impl SparseSystem {
                 let delta = beta / beta2;
                 let gamma = alpha / (beta2 * beta);
                 lx[p] = delta * lx[p] + gamma * u.w[j];
+                // A non-finite change reaches a diagonal on its path (every non-zero of the
+                // update lies on it); the factor is then factorized again.
+                if !(lx[p].is_finite() && lx[p] > 0.0) {
+                    return None;
+                }
                 u.w[j] = 0.0;
                 beta = beta2;
                 let rows = &cols.rows[cols.start[j]..cols.end[j]];
@@ -409,9 +427,6 @@ impl SparseSystem {
                 j = cols.parent[j];
             }
             updates += 1;
-        }
-        if lx.iter().any(|v| !v.is_finite()) {
-            return None;
         }
         self.factored_values.copy_from_slice(&self.values);
         Some(updates)
@@ -467,6 +482,7 @@ mod tests {
     }
 
     /// A 12×12 grid's Laplacian plus a diagonal: its pairs (i ≤ j) and values.
+
     fn grid_system(extra: &[((u32, u32), f64)]) -> (Vec<(u32, u32)>, Vec<f64>) {
         let (side, mut pairs, mut vals) = (12u32, vec![], vec![]);
         for y in 0..side {
@@ -574,6 +590,90 @@ mod tests {
         let mut x = b.clone();
         assert_eq!(s.solve_warm(&mut x).unwrap(), Solved::Factored);
         let fresh = solve_fresh(&pairs, &vals, &b);
+        for (u, v) in x.iter().zip(&fresh) {
+            assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
+        }
+    }
+
+    /// A change that is not positive semi-definite (an off-diagonal entry alone, or one
+    /// beside an unchanged diagonal) is not an update: the solution is still the current
+    /// system's.
+    #[test]
+    fn an_indefinite_change_factorizes() {
+        for supernodal in [false, true] {
+            let (pairs, vals0) = grid_system(&[((13, 14), 0.0), ((14, 14), 0.0)]);
+            let b: Vec<f64> = (0..144).map(|i| (i % 5) as f64 - 2.0).collect();
+            let k = vals0.len() - 2;
+            // Off-diagonal alone; then off-diagonal with a raise of one diagonal only.
+            for change in [[0.5, 0.0], [0.5, 2.0]] {
+                let mut s = SparseSystem::default();
+                let threshold = if supernodal {
+                    SupernodalThreshold::FORCE_SUPERNODAL
+                } else {
+                    SupernodalThreshold::FORCE_SIMPLICIAL
+                };
+                s.set_pattern_with(144, &pairs, threshold).unwrap();
+                let mut vals = vals0.clone();
+                for round in 0..2 {
+                    s.clear_values();
+                    for (k, &v) in vals.iter().enumerate() {
+                        s.add(k, v);
+                    }
+                    let mut x = b.clone();
+                    let how = s.solve_warm(&mut x).unwrap();
+                    assert_eq!(how, Solved::Factored, "{change:?}");
+                    let fresh = solve_fresh(&pairs, &vals, &b);
+                    for (u, v) in x.iter().zip(&fresh) {
+                        assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
+                    }
+                    if round == 0 {
+                        vals[k] += change[0];
+                        vals[k + 1] += change[1];
+                    }
+                }
+            }
+        }
+    }
+
+    /// A factorization that fails (a matrix that is not positive definite) leaves no factor
+    /// for a later update to build on.
+    #[test]
+    fn a_failed_factorization_leaves_no_factor_to_update() {
+        let (pairs, vals) = grid_system(&[((100, 100), 0.0)]);
+        let k = vals.len() - 1;
+        let b: Vec<f64> = (0..144).map(|i| (i % 3) as f64).collect();
+        let mut s = SparseSystem::default();
+        s.set_pattern(144, &pairs).unwrap();
+        let run = |s: &mut SparseSystem, vals: &[f64]| {
+            s.clear_values();
+            for (k, &v) in vals.iter().enumerate() {
+                s.add(k, v);
+            }
+            let mut x = b.clone();
+            s.solve_warm(&mut x).map(|how| (how, x))
+        };
+        run(&mut s, &vals).unwrap();
+        // Twice the matrix but for one unknown, whose pivot fails: the factor's columns before
+        // it hold another matrix's values. That unknown is off the path an update from unknown
+        // 100 walks, and after its start, so that the update would meet only positive pivots.
+        let (fwd, inv) = s.symbolic.as_ref().unwrap().perm().unwrap().arrays();
+        let start = inv[100];
+        let mut on_path = vec![false; 144];
+        let mut j = start;
+        while j != usize::MAX {
+            on_path[j] = true;
+            j = s.columns.parent[j];
+        }
+        let fail = (start + 1..144).find(|&j| !on_path[j]).unwrap();
+        let unknown = fwd[fail] as u32;
+        let mut bad: Vec<f64> = vals.iter().map(|v| 2.0 * v).collect();
+        bad[pairs.iter().position(|&p| p == (unknown, unknown)).unwrap()] -= 1e3;
+        assert!(run(&mut s, &bad).is_err());
+        let mut good = vals.clone();
+        good[k] += 1.0;
+        let (how, x) = run(&mut s, &good).unwrap();
+        assert_eq!(how, Solved::Factored);
+        let fresh = solve_fresh(&pairs, &good, &b);
         for (u, v) in x.iter().zip(&fresh) {
             assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
         }
