@@ -482,7 +482,6 @@ mod tests {
     }
 
     /// A 12×12 grid's Laplacian plus a diagonal: its pairs (i ≤ j) and values.
-
     fn grid_system(extra: &[((u32, u32), f64)]) -> (Vec<(u32, u32)>, Vec<f64>) {
         let (side, mut pairs, mut vals) = (12u32, vec![], vec![]);
         for y in 0..side {
@@ -658,7 +657,7 @@ mod tests {
         // 100 walks, and after its start, so that the update would meet only positive pivots.
         let (fwd, inv) = s.symbolic.as_ref().unwrap().perm().unwrap().arrays();
         let start = inv[100];
-        let mut on_path = vec![false; 144];
+        let mut on_path = [false; 144];
         let mut j = start;
         while j != usize::MAX {
             on_path[j] = true;
