@@ -3,7 +3,8 @@
 //!
 //! The repair is kept local, in three steps, each only if the previous one left folds:
 //! 1. re-solve with the weights of the folded triangles tripled, up to eight rounds (same
-//!    pattern, numeric refactorization only; done by the caller, [`super::Solver`]). On the 24
+//!    pattern; the factor is updated by rank-one updates where few unknowns changed, else
+//!    factorized numerically again; done by the caller, [`super::Solver`]). On the 24
 //!    real stills at half width, three rounds left folds on 5 that needed a global blend; eight
 //!    leave none for the later steps;
 //! 2. untangle: move the free vertices of folded triangles, least salient first, towards the
