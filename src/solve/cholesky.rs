@@ -510,16 +510,42 @@ mod tests {
         (pairs, vals)
     }
 
-    fn solve_fresh(pairs: &[(u32, u32)], vals: &[f64], b: &[f64]) -> Vec<f64> {
+    /// A system on the grid's pattern in the layout asked for.
+    fn system(pairs: &[(u32, u32)], supernodal: bool) -> SparseSystem {
+        let threshold = if supernodal {
+            SupernodalThreshold::FORCE_SUPERNODAL
+        } else {
+            SupernodalThreshold::FORCE_SIMPLICIAL
+        };
         let mut s = SparseSystem::default();
-        s.set_pattern(144, pairs).unwrap();
+        s.set_pattern_with(144, pairs, threshold).unwrap();
+        let raw = s.symbolic.as_ref().unwrap().raw();
+        assert_eq!(
+            matches!(raw, SymbolicCholeskyRaw::Supernodal(_)),
+            supernodal
+        );
+        s
+    }
+
+    /// Assembles `vals` and solves for `b`.
+    fn solve(s: &mut SparseSystem, vals: &[f64], b: &[f64]) -> Result<(Solved, Vec<f64>), Error> {
         s.clear_values();
         for (k, &v) in vals.iter().enumerate() {
             s.add(k, v);
         }
         let mut x = b.to_vec();
-        assert_eq!(s.solve_warm(&mut x).unwrap(), Solved::Factored);
-        x
+        s.solve_warm(&mut x).map(|how| (how, x))
+    }
+
+    /// `x` is what a fresh factorization of `vals` gives for `b`.
+    fn assert_solves(x: &[f64], pairs: &[(u32, u32)], vals: &[f64], b: &[f64]) {
+        let mut s = SparseSystem::default();
+        s.set_pattern(144, pairs).unwrap();
+        let (how, fresh) = solve(&mut s, vals, b).unwrap();
+        assert_eq!(how, Solved::Factored);
+        for (u, v) in x.iter().zip(&fresh) {
+            assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
+        }
     }
 
     /// Raising the weight of a few terms updates the factor instead of factorizing again, and
@@ -527,12 +553,6 @@ mod tests {
     /// faer's layouts.
     #[test]
     fn a_few_raised_weights_update_the_factor() {
-        for supernodal in [false, true] {
-            raised_weights_update_the_factor(supernodal);
-        }
-    }
-
-    fn raised_weights_update_the_factor(supernodal: bool) {
         // Terms whose weights change: (x_13 − x_14)², (x_13 − x_25)² and x_100².
         let extra = [
             ((13, 13), 0.0),
@@ -543,54 +563,27 @@ mod tests {
             ((13, 25), 0.0),
             ((100, 100), 0.0),
         ];
-        let (pairs, mut vals) = grid_system(&extra);
+        let (pairs, vals0) = grid_system(&extra);
         let b: Vec<f64> = (0..144).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-        let mut s = SparseSystem::default();
-        let threshold = if supernodal {
-            SupernodalThreshold::FORCE_SUPERNODAL
-        } else {
-            SupernodalThreshold::FORCE_SIMPLICIAL
-        };
-        s.set_pattern_with(144, &pairs, threshold).unwrap();
-        let raw = s.symbolic.as_ref().unwrap().raw();
-        assert_eq!(
-            matches!(raw, SymbolicCholeskyRaw::Supernodal(_)),
-            supernodal
-        );
-        let assemble = |s: &mut SparseSystem, vals: &[f64]| {
-            s.clear_values();
-            for (k, &v) in vals.iter().enumerate() {
-                s.add(k, v);
+        let k = vals0.len() - extra.len();
+        for supernodal in [false, true] {
+            let mut s = system(&pairs, supernodal);
+            let mut vals = vals0.clone();
+            assert_eq!(solve(&mut s, &vals, &b).unwrap().0, Solved::Factored);
+            for (d, v) in [3.0, 3.0, -3.0, 0.5, 0.5, -0.5, 40.0]
+                .iter()
+                .zip(&mut vals[k..])
+            {
+                *v += d;
             }
-        };
-        assemble(&mut s, &vals);
-        let mut x = b.clone();
-        assert_eq!(s.solve_warm(&mut x).unwrap(), Solved::Factored);
-
-        let k = vals.len() - extra.len();
-        for (d, v) in [3.0, 3.0, -3.0, 0.5, 0.5, -0.5, 40.0]
-            .iter()
-            .zip(&mut vals[k..])
-        {
-            *v += d;
-        }
-        assemble(&mut s, &vals);
-        let mut x = b.clone();
-        let how = s.solve_warm(&mut x).unwrap();
-        assert!(matches!(how, Solved::Updated(3)), "{how:?}");
-        let fresh = solve_fresh(&pairs, &vals, &b);
-        for (u, v) in x.iter().zip(&fresh) {
-            assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
-        }
-
-        // Lowering a weight again needs a factorization.
-        vals[k + 6] -= 20.0;
-        assemble(&mut s, &vals);
-        let mut x = b.clone();
-        assert_eq!(s.solve_warm(&mut x).unwrap(), Solved::Factored);
-        let fresh = solve_fresh(&pairs, &vals, &b);
-        for (u, v) in x.iter().zip(&fresh) {
-            assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
+            let (how, x) = solve(&mut s, &vals, &b).unwrap();
+            assert!(matches!(how, Solved::Updated(3)), "{how:?}");
+            assert_solves(&x, &pairs, &vals, &b);
+            // Lowering a weight again needs a factorization.
+            vals[k + 6] -= 20.0;
+            let (how, x) = solve(&mut s, &vals, &b).unwrap();
+            assert_eq!(how, Solved::Factored);
+            assert_solves(&x, &pairs, &vals, &b);
         }
     }
 
@@ -599,37 +592,20 @@ mod tests {
     /// system's.
     #[test]
     fn an_indefinite_change_factorizes() {
+        let (pairs, vals0) = grid_system(&[((13, 14), 0.0), ((14, 14), 0.0)]);
+        let b: Vec<f64> = (0..144).map(|i| (i % 5) as f64 - 2.0).collect();
+        let k = vals0.len() - 2;
         for supernodal in [false, true] {
-            let (pairs, vals0) = grid_system(&[((13, 14), 0.0), ((14, 14), 0.0)]);
-            let b: Vec<f64> = (0..144).map(|i| (i % 5) as f64 - 2.0).collect();
-            let k = vals0.len() - 2;
             // Off-diagonal alone; then off-diagonal with a raise of one diagonal only.
             for change in [[0.5, 0.0], [0.5, 2.0]] {
-                let mut s = SparseSystem::default();
-                let threshold = if supernodal {
-                    SupernodalThreshold::FORCE_SUPERNODAL
-                } else {
-                    SupernodalThreshold::FORCE_SIMPLICIAL
-                };
-                s.set_pattern_with(144, &pairs, threshold).unwrap();
+                let mut s = system(&pairs, supernodal);
                 let mut vals = vals0.clone();
-                for round in 0..2 {
-                    s.clear_values();
-                    for (k, &v) in vals.iter().enumerate() {
-                        s.add(k, v);
-                    }
-                    let mut x = b.clone();
-                    let how = s.solve_warm(&mut x).unwrap();
-                    assert_eq!(how, Solved::Factored, "{change:?}");
-                    let fresh = solve_fresh(&pairs, &vals, &b);
-                    for (u, v) in x.iter().zip(&fresh) {
-                        assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
-                    }
-                    if round == 0 {
-                        vals[k] += change[0];
-                        vals[k + 1] += change[1];
-                    }
-                }
+                solve(&mut s, &vals, &b).unwrap();
+                vals[k] += change[0];
+                vals[k + 1] += change[1];
+                let (how, x) = solve(&mut s, &vals, &b).unwrap();
+                assert_eq!(how, Solved::Factored, "{change:?}");
+                assert_solves(&x, &pairs, &vals, &b);
             }
         }
     }
@@ -643,15 +619,7 @@ mod tests {
         let b: Vec<f64> = (0..144).map(|i| (i % 3) as f64).collect();
         let mut s = SparseSystem::default();
         s.set_pattern(144, &pairs).unwrap();
-        let run = |s: &mut SparseSystem, vals: &[f64]| {
-            s.clear_values();
-            for (k, &v) in vals.iter().enumerate() {
-                s.add(k, v);
-            }
-            let mut x = b.clone();
-            s.solve_warm(&mut x).map(|how| (how, x))
-        };
-        run(&mut s, &vals).unwrap();
+        solve(&mut s, &vals, &b).unwrap();
         // Twice the matrix but for one unknown, whose pivot fails: the factor's columns before
         // it hold another matrix's values. That unknown is off the path an update from unknown
         // 100 walks, and after its start, so that the update would meet only positive pivots.
@@ -667,14 +635,11 @@ mod tests {
         let unknown = fwd[fail] as u32;
         let mut bad: Vec<f64> = vals.iter().map(|v| 2.0 * v).collect();
         bad[pairs.iter().position(|&p| p == (unknown, unknown)).unwrap()] -= 1e3;
-        assert!(run(&mut s, &bad).is_err());
+        assert!(solve(&mut s, &bad, &b).is_err());
         let mut good = vals.clone();
         good[k] += 1.0;
-        let (how, x) = run(&mut s, &good).unwrap();
+        let (how, x) = solve(&mut s, &good, &b).unwrap();
         assert_eq!(how, Solved::Factored);
-        let fresh = solve_fresh(&pairs, &good, &b);
-        for (u, v) in x.iter().zip(&fresh) {
-            assert!((u - v).abs() < 1e-10 * v.abs().max(1.0), "{u} vs {v}");
-        }
+        assert_solves(&x, &pairs, &good, &b);
     }
 }
