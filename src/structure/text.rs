@@ -24,6 +24,9 @@ const MAX_ASPECT: u32 = 14;
 /// (a dot, a waffle cell, a legend swatch) is ink to its edges (0.6 to 0.8 of its box, which
 /// is one pixel of halo wider).
 const MAX_INK: f32 = 0.5;
+/// Densest component taken for merged letters (bold type set tight), if at least twice as wide
+/// as tall: a legend swatch, as wide, is ink to its edges (above 0.7).
+const MAX_INK_MERGED: f32 = 0.62;
 
 /// A text block's bounding box `[x0, y0, x1, y1)` in image pixels, and its line height.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -64,6 +67,11 @@ pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<T
         let stems = glyph_ink(l, w, &mut c);
         if c.ink <= MAX_INK {
             glyphs.push((c, stems));
+        } else if c.ink <= MAX_INK_MERGED && c.w() >= 2 * c.h() {
+            // Letters of a bold word merged into one component ("uce" of "dairy-produce"):
+            // denser than a glyph, wider than a dot or a cell. It joins a word beside it as a
+            // glyph without stems would, never makes a line alone.
+            glyphs.push((c, false));
         }
     }
     let lines = group_lines(glyphs);
@@ -330,6 +338,53 @@ fn merge_blocks(lines: Vec<(Comp, u32, usize)>) -> Vec<TextBlock> {
         }
         if !merged {
             return blocks;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four stems (a word's stemmed letters, 2×14 px) and, right after them, a component
+    /// `extra` wide and 12 px tall with `holes` 6×5 holes, on white.
+    fn word_with(extra: usize, holes: usize) -> (Vec<u8>, usize, usize) {
+        let (w, h) = (120, 60);
+        let mut l = vec![255u8; w * h];
+        let mut ink = |x0: usize, y0: usize, x1: usize, y1: usize, v: u8| {
+            for y in y0..y1 {
+                l[y * w + x0..y * w + x1].fill(v);
+            }
+        };
+        for k in 0..4 {
+            ink(10 + 5 * k, 20, 12 + 5 * k, 34, 0);
+        }
+        ink(30, 22, 30 + extra, 34, 0);
+        for k in 0..holes {
+            ink(32 + 9 * k, 25, 38 + 9 * k, 30, 255);
+        }
+        (l, w, h)
+    }
+
+    /// Bold letters set tight merge into a component denser than a glyph ("uce" of
+    /// "dairy-produce": 0.53 of its box): wider than tall, it joins the word beside it.
+    #[test]
+    fn merged_bold_letters_join_their_word() {
+        // 30×12 with three holes: 270 of 32×14 pixels, 0.60.
+        let (l, w, h) = word_with(30, 3);
+        let blocks = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(blocks.len(), 1, "{blocks:?}");
+        assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 60, "{blocks:?}");
+    }
+
+    /// A filled swatch beside a word (a legend's) stays out of it, as does a dense square.
+    #[test]
+    fn swatches_and_dense_squares_stay_out_of_words() {
+        for (extra, holes) in [(30, 0), (12, 1)] {
+            let (l, w, h) = word_with(extra, holes);
+            let blocks = detect(&l, w, h, [&[], &[]]);
+            assert_eq!(blocks.len(), 1, "{blocks:?}");
+            assert!(blocks[0].x1 <= 30, "{extra}: {blocks:?}");
         }
     }
 }
