@@ -281,3 +281,67 @@ fn words_keep_their_letters_without_stems() {
         );
     }
 }
+
+/// `--debug-dir` shows what was found and what became of it: the pictures, and in
+/// structure.json the lines, the text blocks and where the warp put each block, at one scale
+/// no larger than 1 on a narrower canvas, inside the output.
+#[test]
+fn debug_dir_shows_the_structure_and_where_each_text_block_went() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("dash.png");
+    vizretarget::io::write_still(&dashboard(), &input, vizretarget::io::OutputFormat::Png).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vizretarget"))
+        .current_dir(dir.path())
+        .args([
+            "dash.png",
+            "--width",
+            "400",
+            "-o",
+            "out.png",
+            "--debug-dir",
+            "dbg",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for name in [
+        "vsm.png",
+        "levels.png",
+        "structure.png",
+        "mesh-before.png",
+        "mesh-after.png",
+    ] {
+        assert!(dir.path().join("dbg").join(name).is_file(), "{name}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("dbg/structure.json")).unwrap())
+            .unwrap();
+    let (text, placed) = (
+        json["text"].as_array().unwrap(),
+        json["text_out"].as_array().unwrap(),
+    );
+    assert!(text.len() >= 4, "title and three labels: {text:?}");
+    assert_eq!(text.len(), placed.len());
+    for (b, p) in text.iter().zip(placed) {
+        let p: Vec<f64> = p
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let (w_in, w_out) = (b[2].as_f64().unwrap() - b[0].as_f64().unwrap(), p[2] - p[0]);
+        assert!(
+            p[0] >= 0.0 && p[2] <= 400.0 && p[1] >= 0.0 && p[3] <= 500.0,
+            "{p:?}"
+        );
+        assert!((w_out / w_in - p[4]).abs() < 1e-9, "{b:?} -> {p:?}");
+        assert!(p[4] > 0.3 && p[4] <= 1.0 + 1e-9, "{b:?} -> {p:?}");
+        // One scale: the height follows the width.
+        let h_in = b[3].as_f64().unwrap() - b[1].as_f64().unwrap();
+        assert!(((p[3] - p[1]) / h_in - p[4]).abs() < 0.05, "{b:?} -> {p:?}");
+    }
+}

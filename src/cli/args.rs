@@ -179,8 +179,10 @@ pub struct Cli {
     pub method: MethodArg,
 
     /// Also write the method's intermediate pictures into DIR (created if missing): the
-    /// saliency map (vsm.png), its levels (levels.png) and the mesh before and after the warp
-    /// (mesh-before.png, mesh-after.png). One picture only.
+    /// saliency map (vsm.png), its levels (levels.png), the lines and text blocks found
+    /// (structure.png; as JSON in structure.json, with where the warp put each text block and
+    /// its scale under "text_out") and the mesh before and after the warp (mesh-before.png,
+    /// mesh-after.png). One picture only.
     #[arg(long, value_name = "DIR")]
     pub debug_dir: Option<PathBuf>,
 

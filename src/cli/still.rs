@@ -77,7 +77,9 @@ fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Resu
         write_still(&img, &dir.join(name), OutputFormat::Png)?;
     }
     let path = dir.join("structure.json");
-    std::fs::write(&path, structure_json(&structure).to_string())
+    let mut json = structure_json(&structure);
+    json["text_out"] = text_out_json(&a.mesh, a.warp.positions());
+    std::fs::write(&path, json.to_string())
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
 }
@@ -95,6 +97,36 @@ fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
         "vertical": lines(&s.vertical),
         "text": s.text.iter().map(|b| serde_json::json!([b.x0, b.y0, b.x1, b.y1, b.line_height])).collect::<Vec<_>>(),
     })
+}
+
+/// Where the warp put each text block: `[x0, y0, x1, y1, scale]` in output pixels, the box of
+/// its vertices and its width's scale (a block keeps one scale), or null for a block without
+/// vertices of its own.
+fn text_out_json(mesh: &vizretarget::mesh::Mesh, out: &[glam::DVec2]) -> serde_json::Value {
+    let n = mesh.structure().map_or(0, |s| s.text.len());
+    let mut boxes = vec![None::<[f64; 6]>; n];
+    for (i, r) in mesh.roles().iter().enumerate() {
+        let Some(k) = r.block else { continue };
+        let (p, q) = (mesh.vertices()[i], out[i]);
+        let b = boxes[k as usize].get_or_insert([q.x, q.y, q.x, q.y, p.x, p.x]);
+        *b = [
+            b[0].min(q.x),
+            b[1].min(q.y),
+            b[2].max(q.x),
+            b[3].max(q.y),
+            b[4].min(p.x),
+            b[5].max(p.x),
+        ];
+    }
+    boxes
+        .iter()
+        .map(|b| match b {
+            Some(b) if b[5] > b[4] => {
+                serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
+            }
+            _ => serde_json::Value::Null,
+        })
+        .collect()
 }
 
 fn print_stats(input: &Path, from: Size, out: &Retargeted) {
