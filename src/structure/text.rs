@@ -12,6 +12,14 @@
 
 use super::Line;
 
+/// Densest component taken for a bold glyph with a counter ([`encloses_ground`]); a filled
+/// cell with a label inside (a heat map's) is ink to its edges, denser than this.
+const MAX_INK_HOLED: f32 = 0.7;
+/// Least height of display type (big values, headings), pixels.
+const MIN_DISPLAY_H: u32 = 20;
+/// Least area of a counter, pixels: a pinhole of antialiasing is not one.
+const MIN_COUNTER_PX: usize = 3;
+
 /// Luminance range in a 3×3 neighbourhood that marks a stroke pixel.
 const STROKE_RANGE: u8 = 60;
 /// Glyph (or word) height range, pixels.
@@ -72,6 +80,13 @@ pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<T
             // denser than a glyph, wider than a dot or a cell. It joins a word beside it as a
             // glyph without stems would, never makes a line alone.
             glyphs.push((c, false));
+        } else if c.ink <= MAX_INK_HOLED && c.h() >= MIN_DISPLAY_H && encloses_ground(l, w, &c) {
+            // A bold glyph of display type with a counter ("8", "9", "e", "a" of a big value
+            // in a dashboard's tile): as dense as a swatch, but ground lies inside it, as it
+            // never does inside a filled dot, cell or swatch, nor between the cells of a
+            // waffle or a grid (their gaps reach the outside). Hollow symbols are the size of
+            // the body text they label, smaller than display type.
+            glyphs.push((c, stems));
         }
     }
     let lines = group_lines(glyphs);
@@ -237,6 +252,69 @@ fn glyph_ink(l: &[u8], w: usize, c: &mut Comp) -> bool {
     stems
 }
 
+/// Whether the component's box holds ground enclosed by ink (a counter, at least
+/// [`MIN_COUNTER_PX`]): ground pixels (as in [`glyph_ink`]) that a 4-connected fill from the
+/// box's border does not reach.
+fn encloses_ground(l: &[u8], w: usize, c: &Comp) -> bool {
+    let (bw, bh) = (c.w() as usize, c.h() as usize);
+    if bw < 3 || bh < 3 {
+        return false;
+    }
+    let px = |x: usize, y: usize| l[(c.y0 as usize + y) * w + c.x0 as usize + x];
+    let mut hist = [0u32; 256];
+    for x in 0..bw {
+        hist[px(x, 0) as usize] += 1;
+        hist[px(x, bh - 1) as usize] += 1;
+    }
+    for y in 0..bh {
+        hist[px(0, y) as usize] += 1;
+        hist[px(bw - 1, y) as usize] += 1;
+    }
+    let bg = (0..256).max_by_key(|&v| hist[v]).unwrap_or(0) as i16;
+    let ground: Vec<bool> = (0..bh)
+        .flat_map(|y| (0..bw).map(move |x| (x, y)))
+        .map(|(x, y)| (px(x, y) as i16 - bg).abs() <= STROKE_RANGE as i16)
+        .collect();
+    let mut reached = vec![false; bw * bh];
+    let mut stack: Vec<usize> = Vec::new();
+    for y in 0..bh {
+        for x in 0..bw {
+            let i = y * bw + x;
+            if (x == 0 || y == 0 || x == bw - 1 || y == bh - 1) && ground[i] {
+                reached[i] = true;
+                stack.push(i);
+            }
+        }
+    }
+    while let Some(i) = stack.pop() {
+        let (x, y) = (i % bw, i / bw);
+        let mut visit = |j: usize| {
+            if ground[j] && !reached[j] {
+                reached[j] = true;
+                stack.push(j);
+            }
+        };
+        if x > 0 {
+            visit(i - 1);
+        }
+        if x + 1 < bw {
+            visit(i + 1);
+        }
+        if y > 0 {
+            visit(i - bw);
+        }
+        if y + 1 < bh {
+            visit(i + bw);
+        }
+    }
+    ground
+        .iter()
+        .zip(&reached)
+        .filter(|(&g, &r)| g && !r)
+        .count()
+        >= MIN_COUNTER_PX
+}
+
 // Glyph indices i, j address the sorted list and the union-find parents together.
 #[allow(clippy::needless_range_loop)]
 /// Joins glyphs into text lines (union-find over near neighbours in reading direction). A
@@ -386,5 +464,49 @@ mod tests {
             assert_eq!(blocks.len(), 1, "{blocks:?}");
             assert!(blocks[0].x1 <= 30, "{extra}: {blocks:?}");
         }
+    }
+
+    /// A dashboard tile's big bold value ("899"): each digit is as dense as a swatch, but
+    /// holds counters, so the three make a text line.
+    #[test]
+    fn bold_digits_with_counters_are_text() {
+        let (w, h) = (200, 100);
+        let mut l = vec![255u8; w * h];
+        for k in 0..3 {
+            let x0 = 20 + 40 * k;
+            // A 36×52 "8": ink with two 16×14 counters (0.76 of the box is ink, 0.6 with
+            // the stroke mask's halo).
+            for y in 20..72 {
+                for x in x0..x0 + 36 {
+                    let counter = (x0 + 10..x0 + 26).contains(&x)
+                        && ((28..42).contains(&y) || (50..64).contains(&y));
+                    if !counter {
+                        l[y * w + x] = 0;
+                    }
+                }
+            }
+        }
+        let blocks = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(blocks.len(), 1, "{blocks:?}");
+        assert!(blocks[0].x0 <= 20 && blocks[0].x1 >= 136, "{blocks:?}");
+    }
+
+    /// A waffle of dense cells 2 px apart merges into one component as dense as those
+    /// digits, but the ground between its cells reaches the outside: no text.
+    #[test]
+    fn a_waffle_of_dense_cells_is_not_text() {
+        let (w, h) = (200, 100);
+        let mut l = vec![255u8; w * h];
+        for j in 0..4 {
+            for i in 0..10 {
+                let (x0, y0) = (20 + 12 * i, 20 + 12 * j);
+                for y in y0..y0 + 10 {
+                    for x in x0..x0 + 10 {
+                        l[y * w + x] = 40;
+                    }
+                }
+            }
+        }
+        assert_eq!(detect(&l, w, h, [&[], &[]]), vec![]);
     }
 }
