@@ -54,8 +54,9 @@ const RIGID_SHEAR: f64 = 0.1;
 #[derive(Default)]
 pub struct Renderer {
     ripmap: ripmap::Ripmap,
-    /// Vertically filtered texel columns of one span.
+    /// Vertically filtered texel columns of one span (float, and SWAR lanes).
     cols: Vec<sample::Column>,
+    lane_cols: Vec<u64>,
 }
 
 impl Renderer {
@@ -94,6 +95,7 @@ impl Renderer {
         self.ripmap.clear(opaque);
         let ripmap = &mut self.ripmap;
         let cols = &mut self.cols;
+        let lane_cols = &mut self.lane_cols;
         let (tw, th) = (target.width, target.height);
         let twu = tw as usize;
         let out = dst.pixels_mut();
@@ -127,7 +129,7 @@ impl Renderer {
             // inside itself, at full resolution: the line, snapped onto the output grid by the
             // solver, then stays one pixel sharp instead of being averaged with what lies
             // across it by a ripmap texel or a bilinear tap.
-            let fenced = on_structure(mesh, tri);
+            let (fenced, by_text) = on_structure(mesh, tri);
             let (lx, ly) = if fenced || ex.max(ey) <= FILTER_UP_TO {
                 (0, 0)
             } else {
@@ -136,11 +138,11 @@ impl Renderer {
             let (kx, ky) = ((1u32 << lx) as f64, (1u32 << ly) as f64);
             // Footprint in level texels along each axis; above one texel the pixel is filtered.
             let (fx, fy) = (ex / kx, ey / ky);
-            // What is read (text, and lines with the edges of text blocks) is filtered sharp;
-            // the rest by area, at a fraction of the cost (OCR on the real stills at half
-            // width read as many words either way outside text blocks), and only from
-            // [`AREA_FROM`], per axis.
-            let (kernel, filter_from) = if fenced || mesh.triangle_block(t).is_some() {
+            // What is read (text blocks, and the triangles along their borders) is filtered
+            // sharp; the rest by area, at a fraction of the cost (OCR on the real stills at
+            // half width read as many words either way outside text blocks; thin lines are
+            // redrawn pixel for pixel anyway), and only from [`AREA_FROM`], per axis.
+            let (kernel, filter_from) = if by_text || mesh.triangle_block(t).is_some() {
                 (Kernel::CatmullRom, 1.0 + 1e-6)
             } else {
                 (Kernel::Area, AREA_FROM)
@@ -259,6 +261,10 @@ impl Renderer {
                     // An axis-aligned map (nearly every triangle): one v for the whole span.
                     let v = v + dv * (row.len() / 2) as f32;
                     let f = (&filter_x, &filter_y);
+                    if opaque && kernel == Kernel::Area {
+                        tex.area_row_opaque((u, du), v, f, lane_cols, row);
+                        return;
+                    }
                     match (opaque, dering) {
                         (true, true) => tex.filtered_row::<true, true>((u, du), v, f, cols, row),
                         (true, false) => tex.filtered_row::<true, false>((u, du), v, f, cols, row),
@@ -400,17 +406,19 @@ fn overlay_thin_lines(src: ImageRef<'_>, mesh: &Mesh, warp: &Warp, dst: &mut Ima
     }
 }
 
-/// Whether a triangle has a side along one structure line or text-block border.
-fn on_structure(mesh: &Mesh, tri: &[u32; 3]) -> bool {
+/// Whether a triangle has a side along one structure line or text-block border (`.0`), and
+/// whether one along a text-block border (`.1`).
+fn on_structure(mesh: &Mesh, tri: &[u32; 3]) -> (bool, bool) {
     let roles = mesh.roles();
     if roles.is_empty() {
-        return false;
+        return (false, false);
     }
-    (0..3).any(|i| {
+    (0..3).fold((false, false), |(any, text), i| {
         let (a, b) = (roles[tri[i] as usize], roles[tri[(i + 1) % 3] as usize]);
-        (a.hline.is_some() && a.hline == b.hline)
-            || (a.vline.is_some() && a.vline == b.vline)
-            || (a.block.is_some() && a.block == b.block)
+        let block = a.block.is_some() && a.block == b.block;
+        let line =
+            (a.hline.is_some() && a.hline == b.hline) || (a.vline.is_some() && a.vline == b.vline);
+        (any || line || block, text || block)
     })
 }
 

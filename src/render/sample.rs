@@ -343,6 +343,88 @@ impl Texels<'_> {
     }
 }
 
+impl Texels<'_> {
+    /// [`Texels::filtered_row`] for an opaque source and a kernel without negative lobes
+    /// ([`Kernel::Area`]), in SWAR integer lanes: weights quantized to 8 bits, the columns
+    /// rounded back to 8 bits a channel before the horizontal pass, one multiply a tap for
+    /// all three channels (within one level of the float path, at about half its cost).
+    #[inline(always)]
+    pub fn area_row_opaque(
+        &self,
+        (u0, du): (f32, f32),
+        v: f32,
+        (fx, fy): (&Filter, &Filter),
+        cols: &mut Vec<u64>,
+        out: &mut [[u8; 4]],
+    ) {
+        let Some(last) = out.len().checked_sub(1) else {
+            return;
+        };
+        let mut w = [0f32; MAX_FILTER_TAPS];
+        let mut q = [0u64; MAX_FILTER_TAPS];
+        let (y0, ny) = fy.weights(v, &mut w);
+        quantize(&w[..ny], &mut q);
+        let u1 = u0 + du * last as f32;
+        let r = fx.reach();
+        // One texel of slack each side: `u` is stepped by addition below.
+        let first = (u0.min(u1) - 0.5 - r + 1024.0) as i32 - 1024 - 1;
+        let end = (u0.max(u1) - 0.5 + r + 1024.0) as i32 - 1024 + 2;
+        cols.clear();
+        cols.resize((end - first).max(0) as usize, 0);
+        let tw = self.w as usize;
+        for (j, &k) in q[..ny].iter().enumerate() {
+            let row = &self.px[fy.index(y0 + j as i32) * tw..][..tw];
+            for (i, c) in cols.iter_mut().enumerate() {
+                *c += lanes(row[fx.index(first + i as i32)]) * k;
+            }
+        }
+        for c in cols.iter_mut() {
+            *c = ((*c + ROUND8) >> 8) & LANE8;
+        }
+        let mut u = u0;
+        for px in out.iter_mut() {
+            let (x0, nx) = fx.weights(u, &mut w);
+            quantize(&w[..nx], &mut q);
+            let base = (x0 - first).max(0) as usize;
+            let mut acc = 0u64;
+            for (c, &k) in cols[base..].iter().zip(&q[..nx]) {
+                acc += c * k;
+            }
+            let a = acc + ROUND8;
+            *px = [
+                (a >> 8 & 255) as u8,
+                (a >> 29 & 255) as u8,
+                (a >> 50 & 255) as u8,
+                255,
+            ];
+            u += du;
+        }
+    }
+}
+
+/// Rounding of each lane before dropping 8 bits.
+const ROUND8: u64 = 128 | 128 << 21 | 128 << 42;
+/// The low 8 bits of each lane.
+const LANE8: u64 = 0xFF | 0xFF << 21 | 0xFF << 42;
+
+/// Non-negative weights summing to 1 as integers summing to 256 (the rounding error goes to
+/// the largest).
+#[inline(always)]
+fn quantize(w: &[f32], q: &mut [u64; MAX_FILTER_TAPS]) {
+    let mut sum = 0i64;
+    let mut big = 0;
+    for (i, (&v, q)) in w.iter().zip(q.iter_mut()).enumerate() {
+        *q = (v * 256.0 + 0.5) as u64;
+        sum += *q as i64;
+        if v > w[big] {
+            big = i;
+        }
+    }
+    if !w.is_empty() {
+        q[big] = (q[big] as i64 + 256 - sum).max(0) as u64;
+    }
+}
+
 /// A weighted sum of texels, with the range of the texels summed (for deringing).
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Column {
@@ -507,6 +589,46 @@ mod tests {
                 assert_eq!(row[0], p, "the row path agrees with the single sample");
             }
             assert!(darkest < 128 - (100.0 / scale) as u8, "{scale}: {darkest}");
+        }
+    }
+
+    /// The integer lanes of the area filter give the float path's colours within a level or
+    /// two (8-bit weights, columns rounded to 8 bits).
+    #[test]
+    fn area_lanes_agree_with_the_float_path() {
+        let (w, h) = (40usize, 12usize);
+        let px: Vec<[u8; 4]> = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                [
+                    (x * 37 + y * 11) as u8,
+                    (x * x * 3) as u8,
+                    (255 - y * 20) as u8,
+                    255,
+                ]
+            })
+            .collect();
+        let t = Texels {
+            px: &px,
+            w: w as i32,
+            h: h as i32,
+        };
+        for (sx, sy) in [(1.3f32, 1.0f32), (1.9, 1.6), (3.5, 1.0)] {
+            let fx = Filter::new(Kernel::Area, sx, 0, w as i32 - 1);
+            let fy = Filter::new(Kernel::Area, sy, 0, h as i32 - 1);
+            let (u0, du, v) = (3.3f32, sx, 5.7f32);
+            let mut row = [[0u8; 4]; 9];
+            let mut cols = Vec::new();
+            t.area_row_opaque((u0, du), v, (&fx, &fy), &mut cols, &mut row);
+            for (i, p) in row.iter().enumerate() {
+                let q = t.filtered::<true, false>(u0 + du * i as f32, v, &fx, &fy);
+                for k in 0..3 {
+                    assert!(
+                        (p[k] as i32 - q[k] as i32).abs() <= 2,
+                        "{sx}x{sy} #{i}: {p:?} {q:?}"
+                    );
+                }
+            }
         }
     }
 }
