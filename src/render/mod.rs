@@ -619,16 +619,21 @@ mod tests {
         }
     }
 
-    #[test]
-    fn strong_minification_averages_thin_lines() {
-        let size = Size::new(100, 20).unwrap();
-        let mut img = Image::filled(size, [255; 4]);
+    /// White, with a black 1-px column every 5 px from `first`, 20 px tall.
+    fn stroke_columns(width: u32, first: u32) -> Image {
+        let mut img = Image::filled(Size::new(width, 20).unwrap(), [255; 4]);
         for y in 0..20 {
-            for x in (0..100).step_by(5) {
+            for x in (first..width).step_by(5) {
                 img.set(x, y, [0, 0, 0, 255]);
             }
         }
-        let mesh = Mesh::lattice(size, 10.0);
+        img
+    }
+
+    #[test]
+    fn strong_minification_averages_thin_lines() {
+        let img = stroke_columns(100, 0);
+        let mesh = Mesh::lattice(img.size(), 10.0);
         let target = Size::new(20, 20).unwrap();
         let mut out = Image::new(target);
         Renderer::new().render(img.as_ref(), &mesh, &Warp::linear(&mesh, target), &mut out);
@@ -651,14 +656,8 @@ mod tests {
     /// stroke with its ground before sampling (the stems came out grey: 165 and lighter here).
     #[test]
     fn thin_strokes_shrunk_to_0_7_keep_their_contrast() {
-        let size = Size::new(200, 20).unwrap();
-        let mut img = Image::filled(size, [255; 4]);
-        for y in 0..20 {
-            for x in (2..200).step_by(5) {
-                img.set(x, y, [0, 0, 0, 255]);
-            }
-        }
-        let mesh = Mesh::lattice(size, 10.0);
+        let img = stroke_columns(200, 2);
+        let mesh = Mesh::lattice(img.size(), 10.0);
         let target = Size::new(140, 20).unwrap();
         let mut out = Image::new(target);
         Renderer::new().render(img.as_ref(), &mesh, &Warp::linear(&mesh, target), &mut out);

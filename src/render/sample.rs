@@ -216,6 +216,18 @@ impl Filter {
         (lo, n)
     }
 
+    /// The texel columns `n` samples at `u0 + i·du` read: the first and how many (none for
+    /// no samples), with a texel of slack each side (the caller steps `u` by addition).
+    #[inline(always)]
+    pub fn columns(&self, u0: f32, du: f32, n: usize) -> Option<(i32, usize)> {
+        let last = n.checked_sub(1)?;
+        let u1 = u0 + du * last as f32;
+        let r = self.reach();
+        let first = (u0.min(u1) - 0.5 - r + 1024.0) as i32 - 1024 - 1;
+        let end = (u0.max(u1) - 0.5 + r + 1024.0) as i32 - 1024 + 2;
+        Some((first, (end - first).max(0) as usize))
+    }
+
     /// Texel `i` clamped into the filter's range.
     #[inline(always)]
     pub fn index(&self, i: i32) -> usize {
@@ -302,18 +314,13 @@ impl Texels<'_> {
         cols: &mut Vec<Column>,
         out: &mut [[u8; 4]],
     ) {
-        let Some(last) = out.len().checked_sub(1) else {
+        let Some((first, n)) = fx.columns(u0, du, out.len()) else {
             return;
         };
         let mut wy = [0f32; MAX_FILTER_TAPS];
         let (y0, ny) = fy.weights(v, &mut wy);
-        let u1 = u0 + du * last as f32;
-        let r = fx.reach();
-        // One texel of slack each side: `u` is stepped by addition below.
-        let first = (u0.min(u1) - 0.5 - r + 1024.0) as i32 - 1024 - 1;
-        let end = (u0.max(u1) - 0.5 + r + 1024.0) as i32 - 1024 + 2;
         cols.clear();
-        cols.resize((end - first).max(0) as usize, Column::EMPTY);
+        cols.resize(n, Column::EMPTY);
         let w = self.w as usize;
         for (j, &ky) in wy[..ny].iter().enumerate() {
             let row = &self.px[fy.index(y0 + j as i32) * w..][..w];
@@ -341,13 +348,11 @@ impl Texels<'_> {
             u += du;
         }
     }
-}
 
-impl Texels<'_> {
     /// [`Texels::filtered_row`] for an opaque source and a kernel without negative lobes
     /// ([`Kernel::Area`]), in SWAR integer lanes: weights quantized to 8 bits, the columns
     /// rounded back to 8 bits a channel before the horizontal pass, one multiply a tap for
-    /// all three channels (within one level of the float path, at about half its cost).
+    /// all three channels (within two levels of the float path, at about half its cost).
     #[inline(always)]
     pub fn area_row_opaque(
         &self,
@@ -357,20 +362,15 @@ impl Texels<'_> {
         cols: &mut Vec<u64>,
         out: &mut [[u8; 4]],
     ) {
-        let Some(last) = out.len().checked_sub(1) else {
+        let Some((first, n)) = fx.columns(u0, du, out.len()) else {
             return;
         };
         let mut w = [0f32; MAX_FILTER_TAPS];
         let mut q = [0u64; MAX_FILTER_TAPS];
         let (y0, ny) = fy.weights(v, &mut w);
         quantize(&w[..ny], &mut q);
-        let u1 = u0 + du * last as f32;
-        let r = fx.reach();
-        // One texel of slack each side: `u` is stepped by addition below.
-        let first = (u0.min(u1) - 0.5 - r + 1024.0) as i32 - 1024 - 1;
-        let end = (u0.max(u1) - 0.5 + r + 1024.0) as i32 - 1024 + 2;
         cols.clear();
-        cols.resize((end - first).max(0) as usize, 0);
+        cols.resize(n, 0);
         let tw = self.w as usize;
         for (j, &k) in q[..ny].iter().enumerate() {
             let row = &self.px[fy.index(y0 + j as i32) * tw..][..tw];
