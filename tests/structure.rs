@@ -300,6 +300,7 @@ fn debug_dir_shows_the_structure_and_where_each_text_block_went() {
             "out.png",
             "--debug-dir",
             "dbg",
+            "--stats",
         ])
         .output()
         .unwrap();
@@ -326,6 +327,16 @@ fn debug_dir_shows_the_structure_and_where_each_text_block_went() {
     );
     assert!(text.len() >= 4, "title and three labels: {text:?}");
     assert_eq!(text.len(), placed.len());
+    // --stats counts the same blocks, and the ones held at their size are among them.
+    let stats = String::from_utf8_lossy(&out.stderr);
+    let counts = stats
+        .split_once("text blocks ")
+        .and_then(|(_, r)| r.split_once(" held"))
+        .map(|(c, _)| c.to_string())
+        .unwrap_or_else(|| panic!("no text blocks in --stats: {stats}"));
+    let (blocks, held) = counts.split_once(" (").unwrap();
+    assert_eq!(blocks.parse::<usize>().unwrap(), text.len(), "{stats}");
+    assert!(held.parse::<usize>().unwrap() <= text.len(), "{stats}");
     for (b, p) in text.iter().zip(placed) {
         let p: Vec<f64> = p
             .as_array()

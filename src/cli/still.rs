@@ -135,7 +135,8 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
     eprintln!(
         "{}: {} -> {}: {} vertices, {} triangles, DOF {}, {} unknowns; \
          vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
-         folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}{}",
+         folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}; \
+         text blocks {} ({} held at their size), snapped to pixels {}{}",
         input.display(),
         from,
         out.image.size(),
@@ -157,6 +158,9 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
         } else {
             ""
         },
+        s.solve.text_blocks,
+        s.solve.text_held,
+        s.solve.snapped,
         if s.solve.fans_held {
             ""
         } else {

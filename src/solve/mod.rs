@@ -165,6 +165,8 @@ pub struct SolveStats {
     pub salient_fit: [f64; 2],
     /// Lines and text blocks moved onto the pixel grid after the solve.
     pub snapped: usize,
+    /// Text blocks moved as one (a scale each).
+    pub text_blocks: usize,
     /// Text blocks held at their target scale after the first solve found room for them.
     pub text_held: usize,
 }
@@ -376,6 +378,7 @@ impl Solver {
             ..SolveStats::default()
         };
         self.layout = layout;
+        stats.text_blocks = self.layout.blocks.len();
         // The assembly's order of entries depends on the layout, the geometry and which
         // vertices carry a temporal anchor.
         let anchored = {
