@@ -356,3 +356,53 @@ fn debug_dir_shows_the_structure_and_where_each_text_block_went() {
         assert!(((p[3] - p[1]) / h_in - p[4]).abs() < 0.05, "{b:?} -> {p:?}");
     }
 }
+
+/// A waffle chart's cells stay in straight rows and columns when a title above it and a
+/// legend beside it pull the space around unevenly: the cells' sides are each too short to
+/// be a line, but a row of them with small gaps is one (a chained line), held straight.
+#[test]
+fn a_waffle_stays_a_grid() {
+    let (cols, rows) = (30u32, 5u32);
+    let mut img = Image::filled(Size::new(760, 260).unwrap(), [255; 4]);
+    draw_label(&mut img, 20.0, 8.0, 20.0, "2016 Election Results by County");
+    for j in 0..rows {
+        for i in 0..cols {
+            let c = if (i + 3 * j) % 7 < 4 {
+                [33, 150, 243, 255]
+            } else {
+                [239, 83, 80, 255]
+            };
+            let (x, y) = (20 + i * 17, 50 + j * 17);
+            rect(&mut img, x, y, x + 15, y + 15, c);
+        }
+    }
+    for (i, label) in ["Clinton (1981473)", "Trump (1769443)"].iter().enumerate() {
+        draw_label(&mut img, 560.0, 60.0 + i as f32 * 24.0, 14.0, label);
+    }
+    let out = retarget(&img, Size::new(380, 260).unwrap(), &Options::default())
+        .unwrap()
+        .image;
+    // Tops of the cells, column by column: where a white pixel sits above a coloured one.
+    let coloured = |x: u32, y: u32| {
+        let p = out.get(x, y);
+        p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]) > 80
+    };
+    let mut tops: Vec<Vec<u32>> = vec![Vec::new(); rows as usize];
+    let mut columns = 0;
+    for x in 0..380 {
+        let t: Vec<u32> = (30..170)
+            .filter(|&y| coloured(x, y) && !coloured(x, y - 1))
+            .collect();
+        if t.len() == rows as usize {
+            columns += 1;
+            for (row, y) in tops.iter_mut().zip(t) {
+                row.push(y);
+            }
+        }
+    }
+    assert!(columns > 100, "only {columns} columns cross every row");
+    for (j, row) in tops.iter().enumerate() {
+        let (lo, hi) = (row.iter().min().unwrap(), row.iter().max().unwrap());
+        assert!(hi - lo <= 1, "row {j}: cell tops from y {lo} to {hi}");
+    }
+}

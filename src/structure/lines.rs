@@ -6,11 +6,20 @@
 //! a few rows apart over the same span: it becomes one line along its middle, so that the
 //! mesh edge runs through the line's pixels and the renderer can keep it one pixel sharp. A
 //! lone edge (the top of a bar, the side of a filled panel) stays on its boundary.
+//!
+//! Shorter runs in a row, stepping the same way with gaps of a few pixels, are one line when
+//! together they are long and mostly step: the tops of a waffle chart's cells, whose rows
+//! wobble apart otherwise (each cell is held by nothing but its own saliency).
 
 /// Luminance step across a boundary that makes an edge pixel (the measure eval tools use).
 pub const EDGE_STEP: i16 = 30;
 /// Shortest run that counts as a line, in pixels.
 pub const MIN_LENGTH_PX: u32 = 40;
+/// A chain of short runs ([`edge_runs`]): its gaps at most this wide, at least this many
+/// runs, and at least this share of it stepping.
+const CHAIN_GAP_PX: usize = 3;
+const CHAIN_MIN_RUNS: usize = 3;
+const CHAIN_COVER: f32 = 0.8;
 /// Edges at most this far apart over the same span are the two sides of one thin line.
 const THIN_PX: u32 = 3;
 
@@ -26,9 +35,17 @@ pub struct Line {
     pub width: u32,
 }
 
+/// Lines found along one direction: solid runs, and chains of short runs (see [`edge_runs`]).
+#[derive(Default)]
+pub(crate) struct Found {
+    pub solid: Vec<Line>,
+    /// Rows of short collinear edges with small gaps: a waffle's cell tops, a dashed rule.
+    pub chained: Vec<Line>,
+}
+
 /// Horizontal lines of a `w × h` luminance image.
-pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Vec<Line> {
-    let edges = edge_runs(h, w, |b, flags| {
+pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found {
+    let (solid, chained) = edge_runs(h, w, |b, flags| {
         // boundary b between rows b-1 and b: the step down it, when large
         let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
         for ((f, &u), &d) in flags.iter_mut().zip(up).zip(down) {
@@ -36,11 +53,14 @@ pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Vec<Line> {
             *f = if step.abs() > EDGE_STEP { step } else { 0 };
         }
     });
-    pair_thin(edges)
+    Found {
+        solid: pair_thin(solid),
+        chained: pair_thin(chained),
+    }
 }
 
 /// Vertical lines of a `w × h` luminance image.
-pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Vec<Line> {
+pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Found {
     // Column boundaries are walked on a transposed copy, so that both directions read rows.
     let mut t = vec![0u8; w * h];
     for (y, row) in l.chunks_exact(w).enumerate() {
@@ -56,10 +76,31 @@ pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Vec<Line> {
 type EdgeRun = (u32, u32, u32, bool);
 
 /// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) where `edge` sets
-/// a non-zero step, 1-px gaps bridged, of at least [`MIN_LENGTH_PX`].
-fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Vec<EdgeRun> {
-    let mut out = Vec::new();
+/// a non-zero step, 1-px gaps bridged, of at least [`MIN_LENGTH_PX`]; and, apart, chains of
+/// at least [`CHAIN_MIN_RUNS`] shorter runs stepping the same way with gaps up to
+/// [`CHAIN_GAP_PX`] that together are that long and mostly step ([`CHAIN_COVER`]): a row of
+/// waffle cells or a dashed grid line, whose pieces are each too short to count.
+fn edge_runs(
+    n_boundaries: usize,
+    len: usize,
+    edge: impl Fn(usize, &mut [i16]),
+) -> (Vec<EdgeRun>, Vec<EdgeRun>) {
+    let (mut solid, mut chained) = (Vec::new(), Vec::new());
     let mut steps = vec![0i16; len];
+    // The current chain of short runs: first start, last end, runs, stepping pixels, rising.
+    let mut chain: Option<(usize, usize, usize, usize, bool)> = None;
+    let close = |chain: &mut Option<(usize, usize, usize, usize, bool)>,
+                 out: &mut Vec<EdgeRun>,
+                 b: usize| {
+        if let Some((from, to, runs, cover, rise)) = chain.take() {
+            if runs >= CHAIN_MIN_RUNS
+                && (to - from) as u32 >= MIN_LENGTH_PX
+                && cover as f32 >= CHAIN_COVER * (to - from) as f32
+            {
+                out.push((b as u32, from as u32, to as u32, rise));
+            }
+        }
+    };
     for b in 1..n_boundaries {
         edge(b, &mut steps);
         if !steps.iter().any(|&f| f != 0) {
@@ -82,14 +123,28 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
                     break;
                 }
             }
+            let rising: i64 = steps[start..end].iter().map(|&v| v.signum() as i64).sum();
+            let rise = rising > 0;
             if (end - start) as u32 >= MIN_LENGTH_PX {
-                let rise: i64 = steps[start..end].iter().map(|&v| v.signum() as i64).sum();
-                out.push((b as u32, start as u32, end as u32, rise > 0));
+                close(&mut chain, &mut chained, b);
+                solid.push((b as u32, start as u32, end as u32, rise));
+            } else {
+                let cover = steps[start..end].iter().filter(|&&v| v != 0).count();
+                match &mut chain {
+                    Some(c) if start - c.1 <= CHAIN_GAP_PX && c.4 == rise => {
+                        *c = (c.0, end, c.2 + 1, c.3 + cover, rise);
+                    }
+                    _ => {
+                        close(&mut chain, &mut chained, b);
+                        chain = Some((start, end, 1, cover, rise));
+                    }
+                }
             }
             i = end;
         }
+        close(&mut chain, &mut chained, b);
     }
-    out
+    (solid, chained)
 }
 
 /// Turns edge runs into lines: two runs of opposite steps (into the line and out of it) at
@@ -173,7 +228,7 @@ mod tests {
                 l[y * w + x] = 90; // a filled block: one edge at boundary 40
             }
         }
-        let hl = horizontal(&l, w, h);
+        let hl = horizontal(&l, w, h).solid;
         assert_eq!(hl.len(), 2, "{hl:?}");
         assert_eq!(
             hl[0],
@@ -193,7 +248,7 @@ mod tests {
                 width: 0
             }
         );
-        let vl = vertical(&l, w, h);
+        let vl = vertical(&l, w, h).solid;
         assert_eq!(
             vl,
             vec![Line {
@@ -205,6 +260,49 @@ mod tests {
         );
     }
 
+    /// Cells with 2-px gaps: the rows' tops and bottoms are chained lines, as are the cells'
+    /// sides down each column of a 3-row waffle; a row with cells barely wider
+    /// than its gaps (a text's baseline, a sparse dotted rule) is not.
+    #[test]
+    fn a_row_of_cells_is_a_chained_line_and_a_sparse_row_is_not() {
+        let cells = |cell: usize, gap: usize, rows: usize| {
+            let (w, h) = (200usize, 80usize);
+            let mut l = vec![250u8; w * h];
+            for r in 0..rows {
+                let y0 = 10 + r * (cell + gap);
+                for c in 0..10 {
+                    let x0 = 10 + c * (cell + gap);
+                    for y in y0..y0 + cell {
+                        l[y * w + x0..y * w + x0 + cell].fill(40);
+                    }
+                }
+            }
+            (horizontal(&l, w, h), vertical(&l, w, h))
+        };
+        let (h, v) = cells(14, 2, 3);
+        assert!(h.solid.is_empty() && v.solid.is_empty());
+        // Top of the first row, bottom of the last, and the 2-px white gaps between rows.
+        let rows: Vec<(f64, f64, f64)> = h.chained.iter().map(|l| (l.pos, l.from, l.to)).collect();
+        assert_eq!(
+            rows,
+            vec![
+                (10.0, 10.0, 168.0),
+                (25.0, 10.0, 168.0),
+                (41.0, 10.0, 168.0),
+                (56.0, 10.0, 168.0)
+            ]
+        );
+        // Down the columns: the first cell's left side, the last one's right, 9 gaps between.
+        assert_eq!(v.chained.len(), 11, "{:?}", v.chained);
+        assert!(v.chained.iter().all(|l| (l.from, l.to) == (10.0, 56.0)));
+        let (h, _) = cells(4, 3, 1);
+        assert!(
+            h.chained.is_empty() && h.solid.is_empty(),
+            "{:?}",
+            h.chained
+        );
+    }
+
     #[test]
     fn short_runs_are_not_lines() {
         let (w, h) = (100usize, 30usize);
@@ -212,6 +310,7 @@ mod tests {
         for x in 10..45 {
             l[10 * w + x] = 0;
         }
-        assert!(horizontal(&l, w, h).is_empty());
+        let found = horizontal(&l, w, h);
+        assert!(found.solid.is_empty() && found.chained.is_empty());
     }
 }

@@ -32,9 +32,32 @@ impl Structure {
         let (w, h) = (image.width() as usize, image.height() as usize);
         let mut l = Vec::new();
         luma::luma(image, &mut l);
-        let horizontal = lines::horizontal(&l, w, h);
-        let vertical = lines::vertical(&l, w, h);
+        let (h_found, v_found) = (lines::horizontal(&l, w, h), lines::vertical(&l, w, h));
+        let (mut horizontal, mut vertical) = (h_found.solid, v_found.solid);
+        // Text is found among solid lines only: a chain may run along the foot of a word.
         let text = text::detect(&l, w, h, [&horizontal, &vertical]);
+        // A chain crossing a text block is the foot or the top of its words.
+        let clear = |line: &Line, across: fn(&TextBlock) -> [u32; 4]| {
+            text.iter().all(|b| {
+                let [a0, a1, s0, s1] = across(b);
+                line.pos < a0 as f64 - 1.0
+                    || line.pos > a1 as f64 + 1.0
+                    || line.to <= s0 as f64
+                    || line.from >= s1 as f64
+            })
+        };
+        horizontal.extend(
+            h_found
+                .chained
+                .into_iter()
+                .filter(|l| clear(l, |b| [b.y0, b.y1, b.x0, b.x1])),
+        );
+        vertical.extend(
+            v_found
+                .chained
+                .into_iter()
+                .filter(|l| clear(l, |b| [b.x0, b.x1, b.y0, b.y1])),
+        );
         Structure {
             horizontal,
             vertical,
