@@ -406,3 +406,84 @@ fn a_waffle_stays_a_grid() {
         assert!(hi - lo <= 1, "row {j}: cell tops from y {lo} to {hi}");
     }
 }
+
+/// A ggplot-style plot (white grid lines on a grey area, 20 levels apart: fainter than the
+/// edges the line detector first looks for) keeps its grid lines straight when a dense cloud of
+/// points on one side and a legend on the other squeeze it unevenly.
+#[test]
+fn faint_grid_lines_stay_straight() {
+    let mut img = Image::filled(Size::new(800, 400).unwrap(), [255; 4]);
+    draw_label(&mut img, 20.0, 6.0, 20.0, "Eruptions and waiting times");
+    rect(&mut img, 60, 50, 560, 370, [235, 235, 235, 255]);
+    let grid_y = [90u32, 170, 250, 330];
+    let grid_x = [140u32, 260, 380, 500];
+    for &y in &grid_y {
+        rect(&mut img, 60, y, 560, y + 2, [255; 4]);
+    }
+    for &x in &grid_x {
+        rect(&mut img, x, 50, x + 2, 370, [255; 4]);
+    }
+    // Points crowd the left half, between the grid lines.
+    let mut seed = 7u32;
+    for _ in 0..160 {
+        seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+        let (x, y) = (70 + (seed >> 8) % 230, 60 + (seed >> 20) % 300);
+        let near = |v: u32, grid: &[u32]| grid.iter().any(|&g| v + 8 > g && v < g + 6);
+        if !near(y, &grid_y) && !near(x, &grid_x) {
+            rect(&mut img, x, y, x + 5, y + 5, [30, 60, 120, 255]);
+        }
+    }
+    for (i, label) in ["level 0.005", "level 0.010"].iter().enumerate() {
+        draw_label(&mut img, 600.0, 120.0 + i as f32 * 26.0, 16.0, label);
+    }
+    let out = retarget(&img, Size::new(400, 400).unwrap(), &Options::default())
+        .unwrap()
+        .image;
+    let white = |x: u32, y: u32| out.get(x, y)[..3].iter().all(|&v| v >= 250);
+    let grey = |x: u32, y: u32| out.get(x, y)[..3].iter().all(|&v| (225..=245).contains(&v));
+    // Each horizontal grid line: in every column, the white rows between grey ones near it.
+    for &gy in &grid_y {
+        let mut ys = Vec::new();
+        for x in 0..400 {
+            let rows: Vec<u32> = (gy - 12..gy + 12)
+                .filter(|&y| white(x, y) && grey(x, y - 3) && grey(x, y + 4))
+                .collect();
+            if let Some(&y) = rows.first() {
+                ys.push(y);
+            }
+        }
+        assert!(
+            ys.len() > 100,
+            "grid line {gy} seen in {} columns",
+            ys.len()
+        );
+        let (lo, hi) = (ys.iter().min().unwrap(), ys.iter().max().unwrap());
+        assert!(hi - lo <= 1, "grid line {gy} runs from y {lo} to {hi}");
+    }
+    // Each vertical one: one column all the way down the plot area. Rows crossing all four
+    // give their columns in order.
+    let mut columns: Vec<Vec<u32>> = vec![Vec::new(); grid_x.len()];
+    let mut rows = 0;
+    for y in (60..360).step_by(2) {
+        let xs: Vec<u32> = (4..396)
+            .filter(|&x| white(x, y) && !white(x - 1, y) && grey(x - 3, y) && grey(x + 4, y))
+            .collect();
+        if xs.len() == grid_x.len() {
+            rows += 1;
+            for (c, x) in columns.iter_mut().zip(xs) {
+                c.push(x);
+            }
+        }
+    }
+    assert!(
+        rows > 100,
+        "only {rows} rows cross every vertical grid line"
+    );
+    for (k, c) in columns.iter().enumerate() {
+        let (lo, hi) = (c.iter().min().unwrap(), c.iter().max().unwrap());
+        assert!(
+            hi - lo <= 1,
+            "vertical grid line {k} runs from x {lo} to {hi}"
+        );
+    }
+}

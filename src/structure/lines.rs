@@ -9,10 +9,20 @@
 //!
 //! Shorter runs in a row, stepping the same way with gaps of a few pixels, are one line when
 //! together they are long and mostly step: the tops of a waffle chart's cells, whose rows
-//! wobble apart otherwise (each cell is held by nothing but its own saliency).
+//! wobble apart otherwise (each cell is held by nothing but its own saliency). Faint steps
+//! (a plot's white grid on grey, a light panel border) make a line only when long, and bridge
+//! the gaps where grid lines cross.
 
 /// Luminance step across a boundary that makes an edge pixel (the measure eval tools use).
 pub const EDGE_STEP: i16 = 30;
+/// Least luminance step of a weak line's pixels, and its least length: light grid lines are
+/// 15-30 levels off their ground (#ebebeb under white, #eee on white); texture edges that
+/// faint rarely run straight this far.
+const WEAK_STEP: i16 = 12;
+const WEAK_MIN_PX: u32 = 150;
+/// Gaps a weak line bridges: where a grid line crosses it, both sides of it are the crossing
+/// line's colour and nothing steps.
+const WEAK_GAP_PX: usize = 3;
 /// Shortest run that counts as a line, in pixels.
 pub const MIN_LENGTH_PX: u32 = 40;
 /// A chain of short runs ([`edge_runs`]): its gaps at most this wide, at least this many
@@ -35,27 +45,30 @@ pub struct Line {
     pub width: u32,
 }
 
-/// Lines found along one direction: solid runs, and chains of short runs (see [`edge_runs`]).
+/// Lines found along one direction: solid runs, chains of short runs, and weak runs (see
+/// [`edge_runs`]).
 #[derive(Default)]
 pub(crate) struct Found {
     pub solid: Vec<Line>,
     /// Rows of short collinear edges with small gaps: a waffle's cell tops, a dashed rule.
     pub chained: Vec<Line>,
+    /// Long lines of low contrast: a plot's white grid on grey, a light panel border.
+    pub weak: Vec<Line>,
 }
 
 /// Horizontal lines of a `w × h` luminance image.
 pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found {
-    let (solid, chained) = edge_runs(h, w, |b, flags| {
-        // boundary b between rows b-1 and b: the step down it, when large
+    let runs = edge_runs(h, w, |b, steps| {
+        // boundary b between rows b-1 and b: the step down it
         let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
-        for ((f, &u), &d) in flags.iter_mut().zip(up).zip(down) {
-            let step = d as i16 - u as i16;
-            *f = if step.abs() > EDGE_STEP { step } else { 0 };
+        for ((s, &u), &d) in steps.iter_mut().zip(up).zip(down) {
+            *s = d as i16 - u as i16;
         }
     });
     Found {
-        solid: pair_thin(solid),
-        chained: pair_thin(chained),
+        solid: pair_thin(runs.solid),
+        chained: pair_thin(runs.chained),
+        weak: pair_thin(runs.weak),
     }
 }
 
@@ -75,17 +88,18 @@ pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Found {
 /// luminance mostly grows across the boundary.
 type EdgeRun = (u32, u32, u32, bool);
 
-/// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) where `edge` sets
-/// a non-zero step, 1-px gaps bridged, of at least [`MIN_LENGTH_PX`]; and, apart, chains of
-/// at least [`CHAIN_MIN_RUNS`] shorter runs stepping the same way with gaps up to
-/// [`CHAIN_GAP_PX`] that together are that long and mostly step ([`CHAIN_COVER`]): a row of
-/// waffle cells or a dashed grid line, whose pieces are each too short to count.
-fn edge_runs(
-    n_boundaries: usize,
-    len: usize,
-    edge: impl Fn(usize, &mut [i16]),
-) -> (Vec<EdgeRun>, Vec<EdgeRun>) {
-    let (mut solid, mut chained) = (Vec::new(), Vec::new());
+/// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) of the steps
+/// `edge` writes, 1-px gaps bridged:
+/// * solid: steps above [`EDGE_STEP`], at least [`MIN_LENGTH_PX`] long;
+/// * chained: at least [`CHAIN_MIN_RUNS`] shorter such runs stepping the same way with gaps
+///   up to [`CHAIN_GAP_PX`] that together are that long and mostly step ([`CHAIN_COVER`]): a
+///   row of waffle cells, whose pieces are each too short to count;
+/// * weak: steps above [`WEAK_STEP`], gaps up to [`WEAK_GAP_PX`] bridged, at least
+///   [`WEAK_MIN_PX`] long, not mostly a solid run:
+///   light grid lines and panel frames (a plot's white grid on grey, a #eee border), long
+///   enough not to be a texture's edges.
+fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Runs {
+    let mut out = Runs::default();
     let mut steps = vec![0i16; len];
     // The current chain of short runs: first start, last end, runs, stepping pixels, rising.
     let mut chain: Option<(usize, usize, usize, usize, bool)> = None;
@@ -103,48 +117,91 @@ fn edge_runs(
     };
     for b in 1..n_boundaries {
         edge(b, &mut steps);
-        if !steps.iter().any(|&f| f != 0) {
-            continue;
-        }
-        let mut i = 0;
-        while i < len {
-            if steps[i] == 0 {
-                i += 1;
-                continue;
-            }
-            let start = i;
-            let mut end = i + 1;
-            loop {
-                if end < len && steps[end] != 0 {
-                    end += 1;
-                } else if end + 1 < len && steps[end + 1] != 0 {
-                    end += 2; // bridge a 1-px gap
-                } else {
-                    break;
-                }
-            }
-            let rising: i64 = steps[start..end].iter().map(|&v| v.signum() as i64).sum();
-            let rise = rising > 0;
+        let first_solid = out.solid.len();
+        for (start, end) in runs(&steps, EDGE_STEP, 1) {
+            let rise = rising(&steps[start..end], EDGE_STEP);
             if (end - start) as u32 >= MIN_LENGTH_PX {
-                close(&mut chain, &mut chained, b);
-                solid.push((b as u32, start as u32, end as u32, rise));
+                close(&mut chain, &mut out.chained, b);
+                out.solid.push((b as u32, start as u32, end as u32, rise));
             } else {
-                let cover = steps[start..end].iter().filter(|&&v| v != 0).count();
+                let cover = steps[start..end]
+                    .iter()
+                    .filter(|v| v.abs() > EDGE_STEP)
+                    .count();
                 match &mut chain {
                     Some(c) if start - c.1 <= CHAIN_GAP_PX && c.4 == rise => {
                         *c = (c.0, end, c.2 + 1, c.3 + cover, rise);
                     }
                     _ => {
-                        close(&mut chain, &mut chained, b);
+                        close(&mut chain, &mut out.chained, b);
                         chain = Some((start, end, 1, cover, rise));
                     }
                 }
             }
-            i = end;
         }
-        close(&mut chain, &mut chained, b);
+        close(&mut chain, &mut out.chained, b);
+        for (start, end) in runs(&steps, WEAK_STEP, WEAK_GAP_PX) {
+            if ((end - start) as u32) < WEAK_MIN_PX {
+                continue;
+            }
+            let solid: usize = out.solid[first_solid..]
+                .iter()
+                .map(|s| (end.min(s.2 as usize)).saturating_sub(start.max(s.1 as usize)))
+                .sum();
+            if solid * 2 < end - start {
+                let rise = rising(&steps[start..end], WEAK_STEP);
+                out.weak.push((b as u32, start as u32, end as u32, rise));
+            }
+        }
     }
-    (solid, chained)
+    out
+}
+
+/// What [`edge_runs`] finds along one direction.
+#[derive(Default)]
+struct Runs {
+    solid: Vec<EdgeRun>,
+    chained: Vec<EdgeRun>,
+    weak: Vec<EdgeRun>,
+}
+
+/// Maximal runs `start..end` of `steps` above `threshold` in magnitude, gaps up to `gap` px
+/// bridged.
+fn runs(steps: &[i16], threshold: i16, gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+    let len = steps.len();
+    let on = move |i: usize| i < len && steps[i].abs() > threshold;
+    let mut i = 0;
+    std::iter::from_fn(move || {
+        while i < len && !on(i) {
+            i += 1;
+        }
+        if i >= len {
+            return None;
+        }
+        let start = i;
+        let mut end = i + 1;
+        loop {
+            if on(end) {
+                end += 1;
+            } else if let Some(g) = (1..=gap).find(|&g| on(end + g)) {
+                end += g + 1;
+            } else {
+                break;
+            }
+        }
+        i = end;
+        Some((start, end))
+    })
+}
+
+/// Whether the steps above `threshold` in a run mostly rise.
+fn rising(steps: &[i16], threshold: i16) -> bool {
+    steps
+        .iter()
+        .filter(|v| v.abs() > threshold)
+        .map(|&v| v.signum() as i64)
+        .sum::<i64>()
+        > 0
 }
 
 /// Turns edge runs into lines: two runs of opposite steps (into the line and out of it) at
@@ -303,6 +360,32 @@ mod tests {
         );
     }
 
+    /// A plot's white grid lines on its grey area (20 levels apart) are weak lines when long
+    /// enough; a short one is a texture's edge, and a dark rule is solid, not also weak.
+    #[test]
+    fn faint_long_lines_are_weak_lines() {
+        let (w, h) = (300usize, 120usize);
+        let mut l = vec![235u8; w * h];
+        l[30 * w + 20..30 * w + 280].fill(255); // grid line, 260 px
+        for y in 0..h {
+            l[y * w + 150..y * w + 152].fill(255); // a crossing one: no step there
+        }
+        l[60 * w + 20..60 * w + 120].fill(255); // 100 px: too short to be sure
+        l[90 * w + 20..90 * w + 280].fill(40); // a dark rule
+        let found = horizontal(&l, w, h);
+        let solid: Vec<f64> = found.solid.iter().map(|l| l.pos).collect();
+        assert_eq!(solid, vec![90.5]);
+        assert_eq!(
+            found.weak,
+            vec![Line {
+                pos: 30.5,
+                from: 20.0,
+                to: 280.0,
+                width: 1
+            }]
+        );
+    }
+
     #[test]
     fn short_runs_are_not_lines() {
         let (w, h) = (100usize, 30usize);
@@ -311,6 +394,6 @@ mod tests {
             l[10 * w + x] = 0;
         }
         let found = horizontal(&l, w, h);
-        assert!(found.solid.is_empty() && found.chained.is_empty());
+        assert!(found.solid.is_empty() && found.chained.is_empty() && found.weak.is_empty());
     }
 }

@@ -34,9 +34,10 @@ impl Structure {
         luma::luma(image, &mut l);
         let (h_found, v_found) = (lines::horizontal(&l, w, h), lines::vertical(&l, w, h));
         let (mut horizontal, mut vertical) = (h_found.solid, v_found.solid);
-        // Text is found among solid lines only: a chain may run along the foot of a word.
+        // Text is found among solid lines only: a chain may run along the foot of a word, and
+        // clearing a faint line's pixels would cut a texture into glyph-sized pieces.
         let text = text::detect(&l, w, h, [&horizontal, &vertical]);
-        // A chain crossing a text block is the foot or the top of its words.
+        // A chain or a faint line crossing a text block is the foot or the top of its words.
         let clear = |line: &Line, across: fn(&TextBlock) -> [u32; 4]| {
             text.iter().all(|b| {
                 let [a0, a1, s0, s1] = across(b);
@@ -47,15 +48,13 @@ impl Structure {
             })
         };
         horizontal.extend(
-            h_found
-                .chained
-                .into_iter()
+            (h_found.chained.into_iter())
+                .chain(h_found.weak)
                 .filter(|l| clear(l, |b| [b.y0, b.y1, b.x0, b.x1])),
         );
         vertical.extend(
-            v_found
-                .chained
-                .into_iter()
+            (v_found.chained.into_iter())
+                .chain(v_found.weak)
                 .filter(|l| clear(l, |b| [b.x0, b.x1, b.y0, b.y1])),
         );
         Structure {
