@@ -670,4 +670,38 @@ mod tests {
             assert!(darkest <= 110, "stroke {k}: darkest {darkest}");
         }
     }
+
+    /// Fine stripes shrunk 48× and 64× come out as their area average (near flat grey), not as
+    /// moiré: past the ripmap's last level (8×) the area filter still spans the whole
+    /// footprint. It was cut at 4 texels, and 24-px stripes came out at 6–248.
+    #[test]
+    fn strong_shrinks_average_fine_stripes() {
+        let (w, h) = (4032u32, 16u32);
+        let mut img = Image::new(Size::new(w, h).unwrap());
+        for x in 0..w {
+            let v = (127.5 + 127.5 * (std::f64::consts::TAU * (x as f64 + 0.5) / 24.0).sin()) as u8;
+            for y in 0..h {
+                img.set(x, y, [v, v, v, 255]);
+            }
+        }
+        let mesh = Mesh::lattice(img.size(), 48.0);
+        for tw in [84u32, 63] {
+            let target = Size::new(tw, h).unwrap();
+            let mut out = Image::new(target);
+            Renderer::new().render(img.as_ref(), &mesh, &Warp::linear(&mesh, target), &mut out);
+            let f = w as f64 / tw as f64;
+            let mut err = 0.0;
+            for x in 0..tw {
+                let (a, b) = (x as f64 * f, (x + 1) as f64 * f);
+                let mut area = 0.0;
+                for i in a.floor() as u32..(b.ceil() as u32).min(w) {
+                    let o = (b.min(i as f64 + 1.0) - a.max(i as f64)).max(0.0);
+                    area += o * img.get(i, 0)[0] as f64;
+                }
+                err += (out.get(x, h / 2)[0] as f64 - area / f).powi(2);
+            }
+            let rms = (err / tw as f64).sqrt();
+            assert!(rms < 3.0, "{tw}: rms {rms} from the area average");
+        }
+    }
 }

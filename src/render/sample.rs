@@ -95,8 +95,10 @@ impl Texels<'_> {
 
 /// Most taps of [`Filter`] along one axis: a footprint of up to [`MAX_FILTER_SCALE`] texels.
 pub(crate) const MAX_FILTER_TAPS: usize = 4 * MAX_FILTER_SCALE as usize + 1;
-/// Widest footprint the filter spans at full resolution (texels per output pixel); a wider
-/// one is sampled from a ripmap level first, or aliases slightly.
+/// Widest footprint the Catmull-Rom filter spans (texels per output pixel); a wider one is
+/// sampled from a ripmap level first, or aliases slightly. The area filter, one tap a texel,
+/// spans up to `MAX_FILTER_TAPS - 2`: past the ripmap's last level (8×) a footprint is still
+/// several texels wide, and reading only part of it makes moiré of fine stripes.
 pub(crate) const MAX_FILTER_SCALE: f32 = 4.0;
 
 /// Catmull-Rom (the cubic with `a = −0.5`): interpolating, sharp, support 2.
@@ -124,9 +126,16 @@ pub(crate) enum Kernel {
 }
 
 impl Kernel {
+    /// Widest footprint whose taps fit in [`MAX_FILTER_TAPS`] (Area: scale + 2 taps).
+    pub fn max_scale(self) -> f32 {
+        match self {
+            Kernel::CatmullRom => MAX_FILTER_SCALE,
+            Kernel::Area => (MAX_FILTER_TAPS - 2) as f32,
+        }
+    }
     /// How far from the sample position (in texels) the kernel stretched by `scale` reads.
     pub fn reach(self, scale: f32) -> f32 {
-        let scale = scale.clamp(1.0, MAX_FILTER_SCALE);
+        let scale = scale.clamp(1.0, self.max_scale());
         match self {
             Kernel::CatmullRom => 2.0 * scale,
             Kernel::Area => 0.5 * scale + 0.5,
@@ -146,10 +155,10 @@ pub(crate) struct Filter {
 }
 
 impl Filter {
-    /// A filter over `scale` texels (clamped to `[1, MAX_FILTER_SCALE]`) that reads texels
+    /// A filter over `scale` texels (clamped to `[1, kernel.max_scale()]`) that reads texels
     /// `lo..=hi` only.
     pub fn new(kernel: Kernel, scale: f32, lo: i32, hi: i32) -> Filter {
-        let scale = scale.clamp(1.0, MAX_FILTER_SCALE);
+        let scale = scale.clamp(1.0, kernel.max_scale());
         Filter {
             kernel,
             scale,
@@ -350,7 +359,8 @@ impl Texels<'_> {
     }
 
     /// [`Texels::filtered_row`] for an opaque source and a kernel without negative lobes
-    /// ([`Kernel::Area`]), in SWAR integer lanes: weights quantized to 8 bits, the columns
+    /// ([`Kernel::Area`]), in SWAR integer lanes: weights quantized to 12 bits (8 lose a level
+    /// or more over the 15 taps of a wide footprint), the columns
     /// rounded back to 8 bits a channel before the horizontal pass, one multiply a tap for
     /// all three channels (within two levels of the float path, at about half its cost).
     #[inline(always)]
@@ -379,7 +389,7 @@ impl Texels<'_> {
             }
         }
         for c in cols.iter_mut() {
-            *c = ((*c + ROUND8) >> 8) & LANE8;
+            *c = ((*c + ROUND12) >> WEIGHT_BITS) & LANE8;
         }
         let mut u = u0;
         for px in out.iter_mut() {
@@ -390,11 +400,11 @@ impl Texels<'_> {
             for (c, &k) in cols[base..].iter().zip(&q[..nx]) {
                 acc += c * k;
             }
-            let a = acc + ROUND8;
+            let a = acc + ROUND12;
             *px = [
-                (a >> 8 & 255) as u8,
-                (a >> 29 & 255) as u8,
-                (a >> 50 & 255) as u8,
+                (a >> WEIGHT_BITS & 255) as u8,
+                (a >> (21 + WEIGHT_BITS) & 255) as u8,
+                (a >> (42 + WEIGHT_BITS) & 255) as u8,
                 255,
             ];
             u += du;
@@ -402,26 +412,29 @@ impl Texels<'_> {
     }
 }
 
-/// Rounding of each lane before dropping 8 bits.
-const ROUND8: u64 = 128 | 128 << 21 | 128 << 42;
+/// Bits of a quantized weight: a lane's 255 · 2^12 plus rounding stays below its 21 bits.
+const WEIGHT_BITS: u32 = 12;
+const WEIGHT_ONE: u64 = 1 << WEIGHT_BITS;
+/// Rounding of each lane before dropping the weight's bits.
+const ROUND12: u64 = (WEIGHT_ONE / 2) * (1 | 1 << 21 | 1 << 42);
 /// The low 8 bits of each lane.
 const LANE8: u64 = 0xFF | 0xFF << 21 | 0xFF << 42;
 
-/// Non-negative weights summing to 1 as integers summing to 256 (the rounding error goes to
-/// the largest).
+/// Non-negative weights summing to 1 as integers summing to [`WEIGHT_ONE`] (the rounding
+/// error goes to the largest).
 #[inline(always)]
 fn quantize(w: &[f32], q: &mut [u64; MAX_FILTER_TAPS]) {
     let mut sum = 0i64;
     let mut big = 0;
     for (i, (&v, q)) in w.iter().zip(q.iter_mut()).enumerate() {
-        *q = (v * 256.0 + 0.5) as u64;
+        *q = (v * WEIGHT_ONE as f32 + 0.5) as u64;
         sum += *q as i64;
         if v > w[big] {
             big = i;
         }
     }
     if !w.is_empty() {
-        q[big] = (q[big] as i64 + 256 - sum).max(0) as u64;
+        q[big] = (q[big] as i64 + WEIGHT_ONE as i64 - sum).max(0) as u64;
     }
 }
 
