@@ -23,6 +23,8 @@ const WEAK_MIN_PX: u32 = 150;
 /// Gaps a weak line bridges: where a grid line crosses it, both sides of it are the crossing
 /// line's colour and nothing steps.
 const WEAK_GAP_PX: usize = 3;
+/// Least share of a weak line's steps that go one way (a mark crossing it steps the other).
+const WEAK_ONE_WAY: f32 = 0.8;
 /// Shortest run that counts as a line, in pixels.
 pub const MIN_LENGTH_PX: u32 = 40;
 /// A chain of short runs ([`edge_runs`]): its gaps at most this wide, at least this many
@@ -140,8 +142,16 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
             }
         }
         close(&mut chain, &mut out.chained, b);
+        // A line's side steps one way nearly all along; the rows of a noisy texture step
+        // both ways by this much nearly everywhere.
         for (start, end) in runs(&steps, WEAK_STEP, WEAK_GAP_PX) {
             if ((end - start) as u32) < WEAK_MIN_PX {
+                continue;
+            }
+            let (up, down) = steps[start..end].iter().fold((0, 0), |(u, d), &v| {
+                (u + (v > WEAK_STEP) as usize, d + (v < -WEAK_STEP) as usize)
+            });
+            if (up.max(down) as f32) < WEAK_ONE_WAY * (up + down) as f32 {
                 continue;
             }
             let solid: usize = out.solid[first_solid..]
@@ -149,8 +159,8 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
                 .map(|s| (end.min(s.2 as usize)).saturating_sub(start.max(s.1 as usize)))
                 .sum();
             if solid * 2 < end - start {
-                let rise = rising(&steps[start..end], WEAK_STEP);
-                out.weak.push((b as u32, start as u32, end as u32, rise));
+                out.weak
+                    .push((b as u32, start as u32, end as u32, up > down));
             }
         }
     }
@@ -384,6 +394,22 @@ mod tests {
                 width: 1
             }]
         );
+    }
+
+    /// Noise steps by more than a weak line's step between nearly every two rows, both ways:
+    /// no line.
+    #[test]
+    fn noise_makes_no_weak_lines() {
+        let (w, h) = (400usize, 60usize);
+        let mut s = 0x5eed_u32;
+        let l: Vec<u8> = (0..w * h)
+            .map(|_| {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                60 + (s >> 24) as u8 % 130
+            })
+            .collect();
+        assert!(horizontal(&l, w, h).weak.is_empty());
+        assert!(vertical(&l, w, h).weak.is_empty());
     }
 
     #[test]
