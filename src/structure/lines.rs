@@ -47,15 +47,15 @@ pub struct Line {
     pub width: u32,
 }
 
-/// Lines found along one direction: solid runs, chains of short runs, and weak runs (see
-/// [`edge_runs`]).
+/// What is found along one direction (edge runs, then lines): solid runs, chains of short
+/// runs, and weak runs (see [`edge_runs`]).
 #[derive(Default)]
-pub(crate) struct Found {
-    pub solid: Vec<Line>,
-    /// Rows of short collinear edges with small gaps: a waffle's cell tops, a dashed rule.
-    pub chained: Vec<Line>,
+pub(crate) struct Found<T = Line> {
+    pub solid: Vec<T>,
+    /// Rows of short collinear edges with small gaps: a waffle's cell tops.
+    pub chained: Vec<T>,
     /// Long lines of low contrast: a plot's white grid on grey, a light panel border.
-    pub weak: Vec<Line>,
+    pub weak: Vec<T>,
 }
 
 /// Horizontal lines of a `w × h` luminance image.
@@ -100,48 +100,42 @@ type EdgeRun = (u32, u32, u32, bool);
 ///   [`WEAK_MIN_PX`] long, not mostly a solid run:
 ///   light grid lines and panel frames (a plot's white grid on grey, a #eee border), long
 ///   enough not to be a texture's edges.
-fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Runs {
-    let mut out = Runs::default();
+fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Found<EdgeRun> {
+    let mut out = Found::default();
     let mut steps = vec![0i16; len];
-    // The current chain of short runs: first start, last end, runs, stepping pixels, rising.
-    let mut chain: Option<(usize, usize, usize, usize, bool)> = None;
-    let close = |chain: &mut Option<(usize, usize, usize, usize, bool)>,
-                 out: &mut Vec<EdgeRun>,
-                 b: usize| {
-        if let Some((from, to, runs, cover, rise)) = chain.take() {
-            if runs >= CHAIN_MIN_RUNS
-                && (to - from) as u32 >= MIN_LENGTH_PX
-                && cover as f32 >= CHAIN_COVER * (to - from) as f32
-            {
-                out.push((b as u32, from as u32, to as u32, rise));
-            }
-        }
-    };
+    let mut chain: Option<Chain> = None;
     for b in 1..n_boundaries {
         edge(b, &mut steps);
         let first_solid = out.solid.len();
         for (start, end) in runs(&steps, EDGE_STEP, 1) {
             let rise = rising(&steps[start..end], EDGE_STEP);
-            if (end - start) as u32 >= MIN_LENGTH_PX {
-                close(&mut chain, &mut out.chained, b);
+            let long = (end - start) as u32 >= MIN_LENGTH_PX;
+            if long {
                 out.solid.push((b as u32, start as u32, end as u32, rise));
-            } else {
-                let cover = steps[start..end]
-                    .iter()
-                    .filter(|v| v.abs() > EDGE_STEP)
-                    .count();
-                match &mut chain {
-                    Some(c) if start - c.1 <= CHAIN_GAP_PX && c.4 == rise => {
-                        *c = (c.0, end, c.2 + 1, c.3 + cover, rise);
-                    }
-                    _ => {
-                        close(&mut chain, &mut out.chained, b);
-                        chain = Some((start, end, 1, cover, rise));
-                    }
+            }
+            let cover = steps[start..end]
+                .iter()
+                .filter(|v| v.abs() > EDGE_STEP)
+                .count();
+            match &mut chain {
+                Some(c) if !long && start - c.to <= CHAIN_GAP_PX && c.rise == rise => {
+                    c.to = end;
+                    c.runs += 1;
+                    c.cover += cover;
+                }
+                _ => {
+                    out.chained.extend(chain.take().and_then(|c| c.run(b)));
+                    chain = (!long).then_some(Chain {
+                        from: start,
+                        to: end,
+                        runs: 1,
+                        cover,
+                        rise,
+                    });
                 }
             }
         }
-        close(&mut chain, &mut out.chained, b);
+        out.chained.extend(chain.take().and_then(|c| c.run(b)));
         // A line's side steps one way nearly all along; the rows of a noisy texture step
         // both ways by this much nearly everywhere.
         for (start, end) in runs(&steps, WEAK_STEP, WEAK_GAP_PX) {
@@ -167,12 +161,25 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
     out
 }
 
-/// What [`edge_runs`] finds along one direction.
-#[derive(Default)]
-struct Runs {
-    solid: Vec<EdgeRun>,
-    chained: Vec<EdgeRun>,
-    weak: Vec<EdgeRun>,
+/// Short runs along one boundary, so far one after another with small gaps.
+struct Chain {
+    from: usize,
+    to: usize,
+    runs: usize,
+    /// Pixels that step.
+    cover: usize,
+    rise: bool,
+}
+
+impl Chain {
+    /// The chain as one run, if it is one ([`edge_runs`]).
+    fn run(&self, boundary: usize) -> Option<EdgeRun> {
+        let len = self.to - self.from;
+        (self.runs >= CHAIN_MIN_RUNS
+            && len as u32 >= MIN_LENGTH_PX
+            && self.cover as f32 >= CHAIN_COVER * len as f32)
+            .then_some((boundary as u32, self.from as u32, self.to as u32, self.rise))
+    }
 }
 
 /// Maximal runs `start..end` of `steps` above `threshold` in magnitude, gaps up to `gap` px
