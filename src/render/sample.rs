@@ -360,9 +360,9 @@ impl Texels<'_> {
 
     /// [`Texels::filtered_row`] for an opaque source and a kernel without negative lobes
     /// ([`Kernel::Area`]), in SWAR integer lanes: weights quantized to 12 bits (8 lose a level
-    /// or more over the 15 taps of a wide footprint), the columns
-    /// rounded back to 8 bits a channel before the horizontal pass, one multiply a tap for
-    /// all three channels (within two levels of the float path, at about half its cost).
+    /// or more over the 15 taps of a wide footprint), the columns rounded back to 8 bits a
+    /// channel before the horizontal pass, one multiply a tap for all three channels (within
+    /// two levels of the float path, at about half its cost).
     #[inline(always)]
     pub fn area_row_opaque(
         &self,
