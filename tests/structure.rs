@@ -487,3 +487,73 @@ fn faint_grid_lines_stay_straight() {
         );
     }
 }
+
+/// Small type is the first to become illegible when resampled, a large title reads well a
+/// third smaller: when a title above a wide chart and a small-type legend beside it cannot
+/// all keep their size at half width, the legend keeps its own.
+#[test]
+fn small_type_keeps_its_size_before_a_large_title() {
+    let mut img = Image::filled(Size::new(824, 150).unwrap(), [255; 4]);
+    draw_label(
+        &mut img,
+        41.0,
+        8.0,
+        20.0,
+        "2016 Virginia Presidential Election Results",
+    );
+    for j in 0..5u32 {
+        for i in 0..27u32 {
+            let c = if i < 14 {
+                [33, 150, 243, 255]
+            } else {
+                [239, 83, 80, 255]
+            };
+            let (x, y) = (42 + i * 21, 32 + j * 21);
+            rect(&mut img, x, y, x + 19, y + 19, c);
+        }
+    }
+    let labels = [
+        "Hillary Clinton (1981473)",
+        "Donald Trump (1769443)",
+        "Others (233715)",
+    ];
+    for (i, label) in labels.iter().enumerate() {
+        rect(
+            &mut img,
+            638,
+            42 + i as u32 * 16,
+            660,
+            50 + i as u32 * 16,
+            [150; 4],
+        );
+        draw_label(&mut img, 668.0, 40.0 + i as f32 * 16.0, 11.0, label);
+    }
+    let legend = |img: &Image, x_min: u32| {
+        let mut b: Vec<_> = Structure::detect(img.as_ref())
+            .text
+            .into_iter()
+            .filter(|b| b.x0 >= x_min && b.y0 >= 30)
+            .collect();
+        b.sort_by_key(|b| std::cmp::Reverse(b.x1 - b.x0));
+        b.truncate(3);
+        b.sort_by_key(|b| b.y0);
+        b
+    };
+    let source = legend(&img, 620);
+    assert_eq!(source.len(), 3, "{source:?}");
+    let out = retarget(&img, Size::new(412, 150).unwrap(), &Options::default())
+        .unwrap()
+        .image;
+    vizretarget::io::write_still(
+        &out,
+        std::path::Path::new("/tmp/small_type.png"),
+        vizretarget::io::OutputFormat::Png,
+    )
+    .ok();
+    let kept = legend(&out, 250);
+    assert_eq!(kept.len(), 3, "{kept:?}");
+    for (s, o) in source.iter().zip(&kept) {
+        let (sw, ow) = ((s.x1 - s.x0) as f64, (o.x1 - o.x0) as f64);
+        assert!(ow >= 0.95 * sw, "{ow} of {sw}: {kept:?}");
+    }
+}
