@@ -488,11 +488,9 @@ fn faint_grid_lines_stay_straight() {
     }
 }
 
-/// Small type is the first to become illegible when resampled, a large title reads well a
-/// third smaller: when a title above a wide chart and a small-type legend beside it cannot
-/// all keep their size at half width, the legend keeps its own.
-#[test]
-fn small_type_keeps_its_size_before_a_large_title() {
+/// One row of an election infographic: a title over a waffle chart, a legend in small type
+/// beside it.
+fn election_row() -> Image {
     let mut img = Image::filled(Size::new(824, 150).unwrap(), [255; 4]);
     draw_label(
         &mut img,
@@ -528,6 +526,15 @@ fn small_type_keeps_its_size_before_a_large_title() {
         );
         draw_label(&mut img, 668.0, 40.0 + i as f32 * 16.0, 11.0, label);
     }
+    img
+}
+
+/// Small type is the first to become illegible when resampled, a large title reads well a
+/// third smaller: when a title above a wide chart and a small-type legend beside it cannot
+/// all keep their size at half width, the legend keeps its own.
+#[test]
+fn small_type_keeps_its_size_before_a_large_title() {
+    let img = election_row();
     let legend = |img: &Image, x_min: u32| {
         let mut b: Vec<_> = Structure::detect(img.as_ref())
             .text
@@ -555,5 +562,56 @@ fn small_type_keeps_its_size_before_a_large_title() {
     for (s, o) in source.iter().zip(&kept) {
         let (sw, ow) = ((s.x1 - s.x0) as f64, (o.x1 - o.x0) as f64);
         assert!(ow >= 0.95 * sw, "{ow} of {sw}: {kept:?}");
+    }
+}
+
+/// A waffle's cells come out whole: within a row of cells every pixel column is all cell or
+/// all gap. (A line found twice, as a solid edge and as a chain, was redrawn along a course
+/// interpolated between a few far-apart vertices, and the gaps it crossed showed as white
+/// stubs in the middle of cells.)
+#[test]
+fn waffle_cells_come_out_whole() {
+    let out = retarget(
+        &election_row(),
+        Size::new(412, 150).unwrap(),
+        &Options::default(),
+    )
+    .unwrap()
+    .image;
+    let cell = |x: u32, y: u32| {
+        let p = out.get(x, y);
+        p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]) > 100
+    };
+    // The waffle's extent: columns with cell pixels in most rows below the title.
+    let xs: Vec<u32> = (0..412)
+        .filter(|&x| (32..137).filter(|&y| cell(x, y)).count() > 60)
+        .collect();
+    let (x0, x1) = (xs[0], *xs.last().unwrap());
+    assert!(x1 - x0 > 150, "waffle spans {x0}..{x1}");
+    // Rows of cells: rows where most of the waffle's width is cell.
+    let is_row = |y: u32| (x0..=x1).filter(|&x| cell(x, y)).count() * 10 > (x1 - x0) as usize * 6;
+    let mut bands = Vec::new();
+    let mut y = 20;
+    while y < 150 {
+        if is_row(y) {
+            let start = y;
+            while y < 150 && is_row(y) {
+                y += 1;
+            }
+            bands.push((start, y));
+        }
+        y += 1;
+    }
+    assert_eq!(bands.len(), 5, "rows of cells {bands:?}");
+    for &(b0, b1) in &bands {
+        for x in x0..=x1 {
+            // The first and last row of a band may be antialiased.
+            let n = (b0 + 1..b1 - 1).filter(|&y| cell(x, y)).count() as u32;
+            assert!(
+                n == 0 || n == b1 - b0 - 2,
+                "column {x} of the row of cells at y {b0}..{b1}: {n} cell pixels of {}",
+                b1 - b0 - 2
+            );
+        }
     }
 }

@@ -47,12 +47,14 @@ impl Structure {
                     || line.from >= s1 as f64
             })
         };
-        horizontal.extend(
+        merge_lines(
+            &mut horizontal,
             (h_found.chained.into_iter())
                 .chain(h_found.weak)
                 .filter(|l| clear(l, |b| [b.y0, b.y1, b.x0, b.x1])),
         );
-        vertical.extend(
+        merge_lines(
+            &mut vertical,
             (v_found.chained.into_iter())
                 .chain(v_found.weak)
                 .filter(|l| clear(l, |b| [b.x0, b.x1, b.y0, b.y1])),
@@ -67,5 +69,60 @@ impl Structure {
     /// Nothing found.
     pub fn is_empty(&self) -> bool {
         self.horizontal.is_empty() && self.vertical.is_empty() && self.text.is_empty()
+    }
+}
+
+/// Adds `extra` to `lines`, a line that lies on one already there (same position, overlapping
+/// along it: a waffle's cell tops found both as a solid edge and as a chain) lengthening it
+/// instead. A vertex on two copies of one line takes the role of the first only, and the
+/// second, left with a few vertices far apart, would be redrawn along the wrong course.
+fn merge_lines(lines: &mut Vec<Line>, extra: impl IntoIterator<Item = Line>) {
+    for l in extra {
+        match lines
+            .iter_mut()
+            .find(|o| (o.pos - l.pos).abs() < 0.5 && l.from <= o.to && l.to >= o.from)
+        {
+            Some(o) => {
+                o.from = o.from.min(l.from);
+                o.to = o.to.max(l.to);
+            }
+            None => lines.push(l),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(pos: f64, from: f64, to: f64) -> Line {
+        Line {
+            pos,
+            from,
+            to,
+            width: 0,
+        }
+    }
+
+    #[test]
+    fn a_line_found_twice_is_one_line() {
+        let mut lines = vec![line(32.0, 42.0, 580.0)];
+        merge_lines(
+            &mut lines,
+            [
+                line(32.0, 42.0, 580.0),  // the same
+                line(32.0, 560.0, 600.0), // overlapping: lengthens it
+                line(32.0, 620.0, 700.0), // beyond it: another piece
+                line(52.0, 42.0, 580.0),  // another row
+            ],
+        );
+        assert_eq!(
+            lines,
+            [
+                line(32.0, 42.0, 600.0),
+                line(32.0, 620.0, 700.0),
+                line(52.0, 42.0, 580.0)
+            ]
+        );
     }
 }
