@@ -200,6 +200,20 @@ fn a_row_of_labels_stays_aligned_and_alike() {
     );
 }
 
+/// A three-entry legend's text blocks: the three widest right of `x_min` and below `y_min`,
+/// top to bottom.
+fn legend_entries(img: &Image, x_min: u32, y_min: u32) -> Vec<vizretarget::structure::TextBlock> {
+    let mut b: Vec<_> = Structure::detect(img.as_ref())
+        .text
+        .into_iter()
+        .filter(|b| b.x0 >= x_min && b.y0 >= y_min)
+        .collect();
+    b.sort_by_key(|b| std::cmp::Reverse(b.x1 - b.x0));
+    b.truncate(3);
+    b.sort_by_key(|b| b.y0);
+    b
+}
+
 /// A legend beside a chart that fills its rows (a waffle chart of the election infographics)
 /// keeps its size when the canvas is halved: the chart, which reads as well narrower, gives
 /// up the width the legend's text needs.
@@ -221,18 +235,7 @@ fn a_legend_beside_a_wide_chart_keeps_its_size() {
     for (i, label) in labels.iter().enumerate() {
         draw_label(&mut img, 600.0, 50.0 + i as f32 * 26.0, 16.0, label);
     }
-    // The legend's entries: the widest text blocks right of `x_min`, top to bottom.
-    let legend = |img: &Image, x_min: u32| {
-        let mut b: Vec<_> = Structure::detect(img.as_ref())
-            .text
-            .into_iter()
-            .filter(|b| b.x0 >= x_min)
-            .collect();
-        b.sort_by_key(|b| std::cmp::Reverse(b.x1 - b.x0));
-        b.truncate(3);
-        b.sort_by_key(|b| b.y0);
-        b
-    };
+    let legend = |img: &Image, x_min: u32| legend_entries(img, x_min, 0);
     let source = legend(&img, 560);
     assert_eq!(source.len(), 3, "{source:?}");
     let out = retarget(&img, Size::new(400, 200).unwrap(), &Options::default())
@@ -535,28 +538,12 @@ fn election_row() -> Image {
 #[test]
 fn small_type_keeps_its_size_before_a_large_title() {
     let img = election_row();
-    let legend = |img: &Image, x_min: u32| {
-        let mut b: Vec<_> = Structure::detect(img.as_ref())
-            .text
-            .into_iter()
-            .filter(|b| b.x0 >= x_min && b.y0 >= 30)
-            .collect();
-        b.sort_by_key(|b| std::cmp::Reverse(b.x1 - b.x0));
-        b.truncate(3);
-        b.sort_by_key(|b| b.y0);
-        b
-    };
+    let legend = |img: &Image, x_min: u32| legend_entries(img, x_min, 30);
     let source = legend(&img, 620);
     assert_eq!(source.len(), 3, "{source:?}");
     let out = retarget(&img, Size::new(412, 150).unwrap(), &Options::default())
         .unwrap()
         .image;
-    vizretarget::io::write_still(
-        &out,
-        std::path::Path::new("/tmp/small_type.png"),
-        vizretarget::io::OutputFormat::Png,
-    )
-    .ok();
     let kept = legend(&out, 250);
     assert_eq!(kept.len(), 3, "{kept:?}");
     for (s, o) in source.iter().zip(&kept) {
