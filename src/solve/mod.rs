@@ -167,7 +167,7 @@ pub struct SolveStats {
     pub snapped: usize,
     /// Text blocks moved as one (a scale each).
     pub text_blocks: usize,
-    /// Text blocks held at their target scale after the first solve found room for them.
+    /// Text blocks held at their target scale, by the hold stages that settled without folds.
     pub text_held: usize,
 }
 
@@ -223,7 +223,7 @@ enum HoldStage {
     Small,
 }
 
-/// Solves with held text before giving the hold up.
+/// Solves with held text before a hold stage is given up.
 const HOLD_ATTEMPTS: usize = 3;
 
 /// Folds after the first solve that local untangling may take care of.
@@ -518,15 +518,19 @@ impl Solver {
         // when resampled, a large title reads well a third smaller). A stage that leaves folds
         // however its blocks are released is undone, and the stages before it stand.
         for stage in [HoldStage::All, HoldStage::Small] {
-            if !bad.is_empty() || self.hold_text(mesh, stage) == 0 {
-                continue;
+            if !bad.is_empty() {
+                break;
             }
+            // What stands if this stage cannot settle: taken before it holds anything.
             let before = (
                 pos.clone(),
                 self.rhs.clone(),
                 self.boost.clone(),
                 self.text_hold.clone(),
             );
+            if self.hold_text(mesh, stage) == 0 {
+                continue;
+            }
             let mut rounds = SolveStats::default();
             let mut settled = false;
             for _ in 0..HOLD_ATTEMPTS {

@@ -72,22 +72,23 @@ impl Structure {
     }
 }
 
-/// Adds `extra` to `lines`, a line that lies on one already there (same position, overlapping
-/// along it: a waffle's cell tops found both as a solid edge and as a chain) lengthening it
-/// instead. A vertex on two copies of one line takes the role of the first only, and the
-/// second, left with a few vertices far apart, would be redrawn along the wrong course.
+/// Adds `extra` to `lines`, a line that lies on one already there (same position and
+/// thickness, overlapping along it: a waffle's cell tops found both as a solid edge and as a
+/// chain) lengthening it instead. A vertex on two copies of one line takes the role of the
+/// first only, and the second, left with a few vertices far apart, would be redrawn along the
+/// wrong course.
 fn merge_lines(lines: &mut Vec<Line>, extra: impl IntoIterator<Item = Line>) {
-    for l in extra {
-        match lines
-            .iter_mut()
-            .find(|o| (o.pos - l.pos).abs() < 0.5 && l.from <= o.to && l.to >= o.from)
-        {
-            Some(o) => {
-                o.from = o.from.min(l.from);
-                o.to = o.to.max(l.to);
-            }
-            None => lines.push(l),
+    for mut l in extra {
+        // A lengthened line may reach another piece: merge until none is left to join.
+        while let Some(i) = lines.iter().position(|o| {
+            (o.pos - l.pos).abs() < 0.5 && o.width == l.width && l.from <= o.to && l.to >= o.from
+        }) {
+            let o = lines.swap_remove(i);
+            l.from = l.from.min(o.from);
+            l.to = l.to.max(o.to);
+            l.pos = o.pos;
         }
+        lines.push(l);
     }
 }
 
@@ -116,6 +117,7 @@ mod tests {
                 line(52.0, 42.0, 580.0),  // another row
             ],
         );
+        lines.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.from.total_cmp(&b.from)));
         assert_eq!(
             lines,
             [
@@ -124,5 +126,28 @@ mod tests {
                 line(52.0, 42.0, 580.0)
             ]
         );
+    }
+
+    /// A piece that joins two others makes one line of all three, whatever the order.
+    #[test]
+    fn a_bridging_piece_joins_both_sides() {
+        let mut lines = vec![line(32.0, 42.0, 580.0)];
+        merge_lines(
+            &mut lines,
+            [line(32.0, 620.0, 700.0), line(32.0, 560.0, 650.0)],
+        );
+        assert_eq!(lines, [line(32.0, 42.0, 700.0)]);
+    }
+
+    /// A thin line and an edge at the same place are different things: both stay.
+    #[test]
+    fn lines_of_other_thickness_stay_apart() {
+        let mut lines = vec![line(32.0, 42.0, 580.0)];
+        let thin = Line {
+            width: 2,
+            ..line(32.0, 42.0, 580.0)
+        };
+        merge_lines(&mut lines, [thin]);
+        assert_eq!(lines, [line(32.0, 42.0, 580.0), thin]);
     }
 }
