@@ -602,3 +602,66 @@ fn waffle_cells_come_out_whole() {
         }
     }
 }
+
+/// Hollow marks (legend symbols, unfilled circles) keep their shape, inside and all: a ring
+/// is a mark whose inside belongs to it, not a line around empty ground that may squeeze.
+#[test]
+fn hollow_marks_stay_round() {
+    let mut img = Image::filled(Size::new(600, 300).unwrap(), [255; 4]);
+    frame(&mut img, 20, 20, 580, 280);
+    let ring = [44, 123, 182, 255];
+    let centres: Vec<(f32, f32, f32)> = (0..8)
+        .map(|i| {
+            let cy = if i % 2 == 1 { 80.0 } else { 200.0 };
+            (40.5 + i as f32 * 70.0, cy, 6.0 + 2.0 * i as f32)
+        })
+        .collect();
+    for &(cx, cy, r) in &centres {
+        for y in 0..300u32 {
+            for x in 0..600u32 {
+                let d = ((x as f32 + 0.5 - cx).powi(2) + (y as f32 + 0.5 - cy).powi(2)).sqrt();
+                if d <= r && d >= r - 2.0 {
+                    img.set(x, y, ring);
+                }
+            }
+        }
+    }
+    let out = retarget(&img, Size::new(300, 300).unwrap(), &Options::default())
+        .unwrap()
+        .image;
+    // Each ring's bounding box, from the columns and rows holding its colour, ring by ring
+    // (they lie in separate 35-px wide strips of the output at half width).
+    let is_ring = |x: u32, y: u32| {
+        let p = out.get(x, y);
+        (0..3)
+            .map(|c| (p[c] as i32 - ring[c] as i32).abs())
+            .sum::<i32>()
+            < 120
+    };
+    let xs: Vec<u32> = (0..300)
+        .filter(|&x| (0..300).any(|y| is_ring(x, y)))
+        .collect();
+    // Runs of columns with ring pixels: one per ring.
+    let mut boxes = Vec::new();
+    let mut i = 0;
+    while i < xs.len() {
+        let mut j = i;
+        while j + 1 < xs.len() && xs[j + 1] == xs[j] + 1 {
+            j += 1;
+        }
+        let (x0, x1) = (xs[i], xs[j]);
+        let ys: Vec<u32> = (0..300)
+            .filter(|&y| (x0..=x1).any(|x| is_ring(x, y)))
+            .collect();
+        boxes.push((x1 - x0 + 1, ys.last().unwrap() - ys[0] + 1));
+        i = j + 1;
+    }
+    assert_eq!(boxes.len(), centres.len(), "{boxes:?}");
+    for (&(w, h), &(_, _, r)) in boxes.iter().zip(&centres) {
+        let aspect = w as f64 / h as f64;
+        assert!(
+            (0.9..=1.1).contains(&aspect) && h as f32 >= 2.0 * r * 0.8,
+            "a ring of radius {r} came out {w}x{h}: {boxes:?}"
+        );
+    }
+}
