@@ -3,7 +3,7 @@
 //! text blocks' proportions.
 
 use vizretarget::compare::draw_label;
-use vizretarget::structure::Structure;
+use vizretarget::structure::{Structure, TextBlock};
 use vizretarget::{retarget, Image, Options, Size};
 
 fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
@@ -202,7 +202,7 @@ fn a_row_of_labels_stays_aligned_and_alike() {
 
 /// A three-entry legend's text blocks: the three widest right of `x_min` and below `y_min`,
 /// top to bottom.
-fn legend_entries(img: &Image, x_min: u32, y_min: u32) -> Vec<vizretarget::structure::TextBlock> {
+fn legend_entries(img: &Image, x_min: u32, y_min: u32) -> Vec<TextBlock> {
     let mut b: Vec<_> = Structure::detect(img.as_ref())
         .text
         .into_iter()
@@ -212,6 +212,22 @@ fn legend_entries(img: &Image, x_min: u32, y_min: u32) -> Vec<vizretarget::struc
     b.truncate(3);
     b.sort_by_key(|b| b.y0);
     b
+}
+
+/// A three-entry legend in `img` (right of `x_min[0]`) and in it retargeted to `target`
+/// (right of `x_min[1]`), both below `y_min`.
+fn legend_before_and_after(
+    img: &Image,
+    target: Size,
+    x_min: [u32; 2],
+    y_min: u32,
+) -> (Vec<TextBlock>, Vec<TextBlock>) {
+    let source = legend_entries(img, x_min[0], y_min);
+    assert_eq!(source.len(), 3, "{source:?}");
+    let out = retarget(img, target, &Options::default()).unwrap().image;
+    let kept = legend_entries(&out, x_min[1], y_min);
+    assert_eq!(kept.len(), 3, "{kept:?}");
+    (source, kept)
 }
 
 /// A legend beside a chart that fills its rows (a waffle chart of the election infographics)
@@ -235,14 +251,7 @@ fn a_legend_beside_a_wide_chart_keeps_its_size() {
     for (i, label) in labels.iter().enumerate() {
         draw_label(&mut img, 600.0, 50.0 + i as f32 * 26.0, 16.0, label);
     }
-    let legend = |img: &Image, x_min: u32| legend_entries(img, x_min, 0);
-    let source = legend(&img, 560);
-    assert_eq!(source.len(), 3, "{source:?}");
-    let out = retarget(&img, Size::new(400, 200).unwrap(), &Options::default())
-        .unwrap()
-        .image;
-    let kept = legend(&out, 200);
-    assert_eq!(kept.len(), 3, "{kept:?}");
+    let (source, kept) = legend_before_and_after(&img, Size::new(400, 200).unwrap(), [560, 200], 0);
     for (s, o) in source.iter().zip(&kept) {
         let (sw, ow) = ((s.x1 - s.x0) as f64, (o.x1 - o.x0) as f64);
         let (sh, oh) = (s.line_height as f64, o.line_height as f64);
@@ -537,15 +546,12 @@ fn election_row() -> Image {
 /// all keep their size at half width, the legend keeps its own.
 #[test]
 fn small_type_keeps_its_size_before_a_large_title() {
-    let img = election_row();
-    let legend = |img: &Image, x_min: u32| legend_entries(img, x_min, 30);
-    let source = legend(&img, 620);
-    assert_eq!(source.len(), 3, "{source:?}");
-    let out = retarget(&img, Size::new(412, 150).unwrap(), &Options::default())
-        .unwrap()
-        .image;
-    let kept = legend(&out, 250);
-    assert_eq!(kept.len(), 3, "{kept:?}");
+    let (source, kept) = legend_before_and_after(
+        &election_row(),
+        Size::new(412, 150).unwrap(),
+        [620, 250],
+        30,
+    );
     for (s, o) in source.iter().zip(&kept) {
         let (sw, ow) = ((s.x1 - s.x0) as f64, (o.x1 - o.x0) as f64);
         assert!(ow >= 0.95 * sw, "{ow} of {sw}: {kept:?}");
