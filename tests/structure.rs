@@ -214,6 +214,22 @@ fn legend_entries(img: &Image, x_min: u32, y_min: u32) -> Vec<TextBlock> {
     b
 }
 
+/// A waffle chart from `at`: `size` columns and rows of cells `pitch` px apart with 2-px gaps,
+/// the first `blue` columns blue and the rest red.
+fn waffle(img: &mut Image, at: (u32, u32), size: (u32, u32), blue: u32, pitch: u32) {
+    for j in 0..size.1 {
+        for i in 0..size.0 {
+            let c = if i < blue {
+                [33, 150, 243, 255]
+            } else {
+                [239, 83, 80, 255]
+            };
+            let (x, y) = (at.0 + i * pitch, at.1 + j * pitch);
+            rect(img, x, y, x + pitch - 2, y + pitch - 2, c);
+        }
+    }
+}
+
 /// A three-entry legend in `img` (right of `x_min[0]`) and in it retargeted to `target`
 /// (right of `x_min[1]`), both below `y_min`.
 fn legend_before_and_after(
@@ -236,17 +252,7 @@ fn legend_before_and_after(
 #[test]
 fn a_legend_beside_a_wide_chart_keeps_its_size() {
     let mut img = Image::filled(Size::new(800, 200).unwrap(), [255; 4]);
-    for j in 0..6u32 {
-        for i in 0..34u32 {
-            let c = if i < 20 {
-                [33, 150, 243, 255]
-            } else {
-                [239, 83, 80, 255]
-            };
-            let (x, y) = (20 + i * 16, 40 + j * 16);
-            rect(&mut img, x, y, x + 14, y + 14, c);
-        }
-    }
+    waffle(&mut img, (20, 40), (34, 6), 20, 16);
     let labels = ["Clinton (1981473)", "Trump (1769443)", "Others (233715)"];
     for (i, label) in labels.iter().enumerate() {
         draw_label(&mut img, 600.0, 50.0 + i as f32 * 26.0, 16.0, label);
@@ -511,17 +517,7 @@ fn election_row() -> Image {
         20.0,
         "2016 Virginia Presidential Election Results",
     );
-    for j in 0..5u32 {
-        for i in 0..27u32 {
-            let c = if i < 14 {
-                [33, 150, 243, 255]
-            } else {
-                [239, 83, 80, 255]
-            };
-            let (x, y) = (42 + i * 21, 32 + j * 21);
-            rect(&mut img, x, y, x + 19, y + 19, c);
-        }
-    }
+    waffle(&mut img, (42, 32), (27, 5), 14, 21);
     let labels = [
         "Hillary Clinton (1981473)",
         "Donald Trump (1769443)",
