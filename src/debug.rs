@@ -122,7 +122,7 @@ fn draw_dot(img: &mut Image, c: DVec2, rgb: [u8; 3]) {
 }
 
 /// `base` with the detected structure drawn over it: horizontal lines red, vertical lines blue,
-/// text blocks as green boxes.
+/// text blocks as green boxes, data areas as orange ones.
 pub fn structure_overlay(base: &Image, s: &crate::structure::Structure) -> Image {
     let mut img = base.clone();
     for l in &s.horizontal {
@@ -143,8 +143,16 @@ pub fn structure_overlay(base: &Image, s: &crate::structure::Structure) -> Image
             0.9,
         );
     }
-    for b in &s.text {
-        let (x0, y0, x1, y1) = (b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64);
+    let boxes = s
+        .text
+        .iter()
+        .map(|b| ([b.x0, b.y0, b.x1, b.y1].map(|v| v as f64), [20, 170, 40]))
+        .chain(
+            s.areas
+                .iter()
+                .map(|a| ([a.x0, a.y0, a.x1, a.y1], [240, 140, 0])),
+        );
+    for ([x0, y0, x1, y1], colour) in boxes {
         for (a, c) in [
             ((x0, y0), (x1, y0)),
             ((x1, y0), (x1, y1)),
@@ -155,7 +163,7 @@ pub fn structure_overlay(base: &Image, s: &crate::structure::Structure) -> Image
                 &mut img,
                 DVec2::new(a.0, a.1),
                 DVec2::new(c.0, c.1),
-                [20, 170, 40],
+                colour,
                 0.9,
             );
         }

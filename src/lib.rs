@@ -52,4 +52,5 @@ pub use retargeter::{
 pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
 pub use solve::{EnergyParams, SolveStats, Solver, Warp};
 pub use stream::{Decision, FrameSink, FrameSource, Pipeline, Repeat, ReuseOptions, RunSummary};
+pub use structure::{DataArea, Regions};
 pub use vector::{MarkSize, VectorLayer, VectorOptions};

@@ -32,6 +32,9 @@ pub struct Options {
     /// Detect lines and text and keep them straight and rigid (on by default; off gives the
     /// paper's method alone).
     pub structure: bool,
+    /// Which regions are data areas, warped by one axis-aligned affine map each (found by
+    /// default; needs [`Options::structure`]).
+    pub regions: crate::structure::Regions,
     /// Vector marks for every frame that brings none of its own ([`Frame::marks`]): bound to
     /// the mesh and redrawn over the warped raster (§5.3, see [`crate::vector`]).
     pub marks: Option<Arc<VectorLayer>>,
@@ -49,6 +52,7 @@ impl Default for Options {
             keep_analysis: false,
             reuse: ReuseOptions::default(),
             structure: true,
+            regions: crate::structure::Regions::Auto,
             marks: None,
             vector: VectorOptions::default(),
             enhance: Enhancement::default(),
@@ -57,6 +61,12 @@ impl Default for Options {
 }
 
 impl Options {
+    /// Sets which regions are data areas.
+    pub fn with_regions(mut self, regions: crate::structure::Regions) -> Options {
+        self.regions = regions;
+        self
+    }
+
     /// Sets `α`.
     pub fn with_alpha(mut self, alpha: f32) -> Options {
         self.alpha = alpha;
@@ -246,6 +256,7 @@ impl Retargeter {
             mesh: MeshStage::new(
                 MeshOptions {
                     alpha: options.alpha,
+                    regions: options.regions,
                 },
                 options.reuse.clone(),
                 options.structure,

@@ -169,6 +169,16 @@ pub struct Cli {
     #[arg(long, value_name = "N", default_value_t = 20.0)]
     pub alpha: f32,
 
+    /// Which parts of a chart are data areas, where positions and lengths are read off an
+    /// axis and the warp must not bend: auto (found from axes, frames, even grids and bars on
+    /// a baseline; each keeps one axis-aligned affine map, its marks keep their shape at one
+    /// scale, and margins, gutters and the space around text absorb the rest); affine (the
+    /// whole picture is one data area: a linear resize with round marks kept round); free
+    /// (no data areas: the adaptive mesh bends wherever content allows, best for maps and
+    /// node-link graphs).
+    #[arg(long, value_name = "REGIONS", value_enum, default_value_t = RegionsArg::Auto)]
+    pub regions: RegionsArg,
+
     /// Resizing method, for one picture: mesh (vizretarget's adaptive mesh, the default);
     /// linear (plain scaling); crop (scale to cover, keep the most salient window); grid (the
     /// same deformation on a uniform grid, Wang et al. 2008); seam (seam carving with forward
@@ -504,6 +514,25 @@ pub struct CompareArgs {
     pub limits: LimitArgs,
 }
 
+/// `--regions` values.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum RegionsArg {
+    #[default]
+    Auto,
+    Affine,
+    Free,
+}
+
+impl From<RegionsArg> for vizretarget::Regions {
+    fn from(r: RegionsArg) -> vizretarget::Regions {
+        match r {
+            RegionsArg::Auto => vizretarget::Regions::Auto,
+            RegionsArg::Affine => vizretarget::Regions::Affine,
+            RegionsArg::Free => vizretarget::Regions::Free,
+        }
+    }
+}
+
 /// `--method` values.
 #[derive(clap::ValueEnum, Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum MethodArg {
@@ -555,6 +584,11 @@ pub struct WatchArgs {
     /// Mesh spacing α in px, 4 to 200.
     #[arg(long, value_name = "N", default_value_t = 20.0)]
     pub alpha: f32,
+
+    /// Which parts of each snapshot are data areas (see `vizretarget --help`): auto, affine
+    /// or free.
+    #[arg(long, value_name = "REGIONS", value_enum, default_value_t = RegionsArg::Auto)]
+    pub regions: RegionsArg,
 
     /// How long a snapshot must stay unchanged before it is read when its writer's close was
     /// not seen (files already there at the start; platforms without close-write events), in

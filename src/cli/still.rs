@@ -24,6 +24,7 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
     let limits = cli.limits_for(false);
     let mut options = Options::default()
         .with_alpha(cli.alpha)
+        .with_regions(cli.regions.into())
         .with_analysis(cli.debug_dir.is_some());
     options = super::marks::apply(&cli.vector, options, &limits)?;
     if let Some(layer) = super::marks::still_layer(&cli.vector)? {
@@ -96,6 +97,7 @@ fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
         "horizontal": lines(&s.horizontal),
         "vertical": lines(&s.vertical),
         "text": s.text.iter().map(|b| serde_json::json!([b.x0, b.y0, b.x1, b.y1, b.line_height])).collect::<Vec<_>>(),
+        "areas": s.areas.iter().map(|a| serde_json::json!([a.x0, a.y0, a.x1, a.y1, format!("{:?}", a.kind)])).collect::<Vec<_>>(),
     })
 }
 

@@ -30,7 +30,9 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     let limits = cli.limits_for(is_std(input_path));
     let mut options = super::marks::apply(
         &cli.vector,
-        Options::default().with_alpha(cli.alpha),
+        Options::default()
+            .with_alpha(cli.alpha)
+            .with_regions(cli.regions.into()),
         &limits,
     )?;
     options.reuse = args.reuse();

@@ -14,7 +14,9 @@ use vizretarget::stream::{FrameSink, Progress};
 use vizretarget::{MemoryPlan, Options, Pipeline, Retargeted, Size};
 
 pub fn run(args: &WatchArgs) -> Result<Outcome> {
-    let options = Options::default().with_alpha(args.alpha);
+    let options = Options::default()
+        .with_alpha(args.alpha)
+        .with_regions(args.regions.into());
     options.validate().map_err(library_error)?;
     if !args.dir.is_dir() {
         bail!("{}: not a folder: watch needs a folder", args.dir.display());

@@ -72,11 +72,16 @@ impl Boundary {
 pub struct MeshOptions {
     /// The paper's `α`: the budget is `C_p = w·h/α²` key points.
     pub alpha: f32,
+    /// Which regions are data areas (one affine map each).
+    pub regions: crate::structure::Regions,
 }
 
 impl Default for MeshOptions {
     fn default() -> Self {
-        MeshOptions { alpha: 20.0 }
+        MeshOptions {
+            alpha: 20.0,
+            regions: crate::structure::Regions::Auto,
+        }
     }
 }
 

@@ -181,10 +181,45 @@ pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
             }
         }
     }
+    // Data areas: points along their sides, joined, so that no triangle straddles a side
+    // (inside, the warp is one affine map; outside, it is free). A side along a line reuses
+    // the line's points.
+    for a in &s.areas {
+        let corners = [
+            DVec2::new(a.x0, a.y0),
+            DVec2::new(a.x1, a.y0),
+            DVec2::new(a.x1, a.y1),
+            DVec2::new(a.x0, a.y1),
+        ];
+        let mut ring: Vec<usize> = Vec::new();
+        for c in 0..4 {
+            let (p, q) = (corners[c], corners[(c + 1) % 4]);
+            let n = ((p.distance(q) / step).round() as usize).max(1);
+            for i in 0..n {
+                let at = p + (q - p) * (i as f64 / n as f64);
+                let near = sk.points.iter().position(|(o, _)| o.distance(at) < 2.0);
+                let i = match near {
+                    Some(i) => i,
+                    None if inside_block(at, 1.0) => continue,
+                    None => add(&mut sk, at, Role::default()),
+                };
+                if ring.last() != Some(&i) {
+                    ring.push(i);
+                }
+            }
+        }
+        for i in 0..ring.len() {
+            let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+            if a != b {
+                sk.edges.push([a, b]);
+            }
+        }
+    }
     sk.structure = Structure {
         horizontal,
         vertical,
         text: blocks,
+        areas: s.areas.clone(),
     };
     sk
 }

@@ -22,6 +22,107 @@ const RIM_IMPORTANCE: f32 = 0.25;
 /// Pixels beyond the blob's bounding box looked at for its rim.
 const RIM_PX: u32 = 2;
 
+/// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks).
+const AREA_MARK_IMPORTANCE: f32 = 0.5;
+/// Largest mark of a data area, as a share of the area's shorter side: a bubble may be
+/// large, but a blob spanning much of the plot is a region (an area fill, a band).
+const AREA_MARK_SHARE: f64 = 0.35;
+/// Share of its bounding box above which a blob is a rectangle: a bar or a cell, whose
+/// length is data read off the axis and must follow the area's map, not keep its shape.
+const RECTANGLE_FILL: f64 = 0.9;
+
+/// The marks inside data areas that float (drawn at one scale per area, centred where the
+/// area's map takes their centre): blobs of high importance inside an area, clear of its
+/// sides (a bar standing on the axis is the axis' business) and of text, not rectangles,
+/// and smaller than [`AREA_MARK_SHARE`] of the area. Each with the index of its area.
+pub(crate) fn area_marks(
+    vsm: &Vsm,
+    areas: &[crate::structure::DataArea],
+    text: &[crate::structure::TextBlock],
+) -> Vec<(Mark, usize)> {
+    let s = vsm.scale() as f64;
+    let grid = vsm.grid_size();
+    let (gw, gh) = (grid.width as usize, grid.height as usize);
+    let imp = vsm.importance();
+    let mut seen = vec![false; gw * gh];
+    let mut stack: Vec<usize> = Vec::new();
+    let mut out = Vec::new();
+    for (k, a) in areas.iter().enumerate() {
+        // Cells whose centre lies strictly inside the area.
+        let c0 = ((a.x0 / s).floor() as usize + 1).min(gw);
+        let c1 = ((a.x1 / s).ceil() as usize).saturating_sub(1).min(gw);
+        let r0 = ((a.y0 / s).floor() as usize + 1).min(gh);
+        let r1 = ((a.y1 / s).ceil() as usize).saturating_sub(1).min(gh);
+        let max_side = AREA_MARK_SHARE * (a.x1 - a.x0).min(a.y1 - a.y0);
+        for r in r0..r1 {
+            for c in c0..c1 {
+                let start = r * gw + c;
+                if seen[start] || imp[start] < AREA_MARK_IMPORTANCE {
+                    continue;
+                }
+                seen[start] = true;
+                stack.push(start);
+                let (mut x0, mut y0, mut x1, mut y1) = (c, r, c + 1, r + 1);
+                let mut cells = 0usize;
+                while let Some(i) = stack.pop() {
+                    let (x, y) = (i % gw, i / gw);
+                    cells += 1;
+                    (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
+                    for (dx, dy) in [
+                        (-1i64, 0i64),
+                        (1, 0),
+                        (0, -1),
+                        (0, 1),
+                        (-1, -1),
+                        (1, 1),
+                        (-1, 1),
+                        (1, -1),
+                    ] {
+                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                        if nx < c0 as i64 || ny < r0 as i64 || nx >= c1 as i64 || ny >= r1 as i64 {
+                            continue;
+                        }
+                        let j = ny as usize * gw + nx as usize;
+                        if !seen[j] && imp[j] >= AREA_MARK_IMPORTANCE {
+                            seen[j] = true;
+                            stack.push(j);
+                        }
+                    }
+                }
+                let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
+                let bbox = [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32);
+                let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
+                let fill = cells as f64 / ((x1 - x0) * (y1 - y0)) as f64;
+                let in_text = text.iter().any(|t| {
+                    (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
+                });
+                if touches
+                    || in_text
+                    || bw.max(bh) > max_side
+                    || bw.max(bh) < 3.0
+                    || fill > RECTANGLE_FILL
+                {
+                    continue;
+                }
+                let centre = DVec2::new(
+                    (bbox[0] + bbox[2]) as f64 / 2.0,
+                    (bbox[1] + bbox[3]) as f64 / 2.0,
+                );
+                out.push((
+                    Mark {
+                        center: centre,
+                        ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
+                        bbox,
+                        pixels: (cells as f64 * s * s) as u32,
+                    },
+                    k,
+                ));
+            }
+        }
+    }
+    out
+}
+
 /// One floating mark: its pixels in the source and the whole-pixel shift they are copied with.
 #[derive(Clone, Debug)]
 struct Paste {
@@ -30,6 +131,17 @@ struct Paste {
     /// One flag per pixel of `rect`, row by row.
     mask: Vec<bool>,
     offset: (i64, i64),
+    /// A mark drawn at another scale (a data area's marks): the source point `from` goes to
+    /// the output point `to`, the mark around it scaled by `scale`. `None`: a whole-pixel
+    /// copy by `offset`.
+    scaled: Option<Scaled>,
+}
+
+#[derive(Copy, Clone, Debug)]
+struct Scaled {
+    from: DVec2,
+    to: DVec2,
+    scale: f64,
 }
 
 /// The floating marks of one frame.
@@ -39,26 +151,27 @@ pub(crate) struct Floating {
 }
 
 impl Floating {
-    /// The marks of `src` in `marks`, each placed by `place` (where the warp carries a source
-    /// point; a mark it cannot place is left to the warp) on a canvas of `target`.
+    /// The marks of `src` in `marks`, each placed by `place(index, mark)`: its output centre
+    /// and scale on a canvas of `target` (a mark it cannot place is left to the warp). A mark
+    /// at scale 1 is copied by whole pixels, another is resampled about its centre.
     pub fn new(
         src: &Image,
         vsm: &Vsm,
         marks: &[Mark],
         target: Size,
-        place: impl Fn(DVec2) -> Option<DVec2>,
+        place: impl Fn(usize, &Mark) -> Option<(DVec2, f64)>,
     ) -> Floating {
         let (w, h) = (src.width(), src.height());
         let s = vsm.scale();
         let gw = vsm.grid_size().width as usize;
         let imp = vsm.importance();
         let mut pastes = Vec::with_capacity(marks.len());
-        for m in marks {
-            let Some(to) = place(m.center) else {
+        for (k, m) in marks.iter().enumerate() {
+            let Some((to, scale)) = place(k, m) else {
                 continue;
             };
             let d = to - m.center;
-            if !d.x.is_finite() || !d.y.is_finite() {
+            if !d.x.is_finite() || !d.y.is_finite() || !(scale > 0.0 && scale.is_finite()) {
                 continue;
             }
             let [bx0, by0, bx1, by1] = m.bbox;
@@ -112,13 +225,20 @@ impl Floating {
                         d.clamp(-lo, side - hi)
                     }
                 };
+                let offset = (
+                    keep_inside(d.x, bx0, bx1, target.width),
+                    keep_inside(d.y, by0, by1, target.height),
+                );
+                let scaled = ((scale - 1.0).abs() > 1e-9).then_some(Scaled {
+                    from: m.center,
+                    to,
+                    scale,
+                });
                 pastes.push(Paste {
                     rect,
                     mask,
-                    offset: (
-                        keep_inside(d.x, bx0, bx1, target.width),
-                        keep_inside(d.y, by0, by1, target.height),
-                    ),
+                    offset,
+                    scaled,
                 });
             }
         }
@@ -156,8 +276,11 @@ impl Floating {
             out.width() as i64,
             out.height() as i64,
         );
+        for p in self.pastes.iter().filter(|p| p.scaled.is_some()) {
+            p.paste_scaled(src, out);
+        }
         let (sp, op) = (src.pixels(), out.pixels_mut());
-        for p in &self.pastes {
+        for p in self.pastes.iter().filter(|p| p.scaled.is_none()) {
             for (y, x) in p.pixels() {
                 let (tx, ty) = (x as i64 + p.offset.0, y as i64 + p.offset.1);
                 if (0..ow).contains(&tx) && (0..oh).contains(&ty) {
@@ -174,15 +297,84 @@ impl Floating {
 
     /// The output rectangles `[x0, y0, x1, y1]` the floating marks are copied to.
     pub fn output_rects(&self) -> impl Iterator<Item = [f64; 4]> + '_ {
-        self.pastes.iter().map(|p| {
-            let [x0, y0, x1, y1] = p.rect.map(|v| v as i64);
-            let (dx, dy) = p.offset;
-            [x0 + dx, y0 + dy, x1 + dx, y1 + dy].map(|v| v as f64)
+        self.pastes.iter().map(|p| match p.scaled {
+            Some(_) => p.scaled_rect().map(|v| v as f64),
+            None => {
+                let [x0, y0, x1, y1] = p.rect.map(|v| v as i64);
+                let (dx, dy) = p.offset;
+                [x0 + dx, y0 + dy, x1 + dx, y1 + dy].map(|v| v as f64)
+            }
         })
     }
 }
 
 impl Paste {
+    /// The output pixels `[x0, y0, x1, y1)` a scaled mark may cover.
+    fn scaled_rect(&self) -> [i64; 4] {
+        let Some(sc) = self.scaled else {
+            return [0; 4];
+        };
+        let at = |v: u32, from: f64, to: f64| to + (v as f64 - from) * sc.scale;
+        [
+            at(self.rect[0], sc.from.x, sc.to.x).floor() as i64 - 1,
+            at(self.rect[1], sc.from.y, sc.to.y).floor() as i64 - 1,
+            at(self.rect[2], sc.from.x, sc.to.x).ceil() as i64 + 1,
+            at(self.rect[3], sc.from.y, sc.to.y).ceil() as i64 + 1,
+        ]
+    }
+
+    /// Draws the mark resampled at its scale: each output pixel averages `n × n` samples of
+    /// the source (`n` enough that a shrunk mark is area-filtered), each weighed by the mask,
+    /// and is blended over what the warp drew by the share of samples on the mark.
+    fn paste_scaled(&self, src: &Image, out: &mut Image) {
+        let Some(sc) = self.scaled else { return };
+        let (ow, oh) = (out.width() as i64, out.height() as i64);
+        let [x0, y0, x1, y1] = self.scaled_rect();
+        let n = (1.0 / sc.scale).ceil().clamp(2.0, 8.0) as usize;
+        let rw = (self.rect[2] - self.rect[0]) as i64;
+        let rh = (self.rect[3] - self.rect[1]) as i64;
+        let (sw, sp) = (src.width() as usize, src.pixels());
+        let op = out.pixels_mut();
+        for ty in y0.max(0)..y1.min(oh) {
+            for tx in x0.max(0)..x1.min(ow) {
+                let mut sum = [0f32; 4];
+                let mut hits = 0u32;
+                for j in 0..n {
+                    for i in 0..n {
+                        let ox = tx as f64 + (i as f64 + 0.5) / n as f64;
+                        let oy = ty as f64 + (j as f64 + 0.5) / n as f64;
+                        let sx = sc.from.x + (ox - sc.to.x) / sc.scale;
+                        let sy = sc.from.y + (oy - sc.to.y) / sc.scale;
+                        let (mx, my) = (
+                            sx.floor() as i64 - self.rect[0] as i64,
+                            sy.floor() as i64 - self.rect[1] as i64,
+                        );
+                        if mx < 0 || my < 0 || mx >= rw || my >= rh {
+                            continue;
+                        }
+                        if !self.mask[(my * rw + mx) as usize] {
+                            continue;
+                        }
+                        let c = sp[sy.floor() as usize * sw + sx.floor() as usize];
+                        for (s, &v) in sum.iter_mut().zip(&c) {
+                            *s += v as f32;
+                        }
+                        hits += 1;
+                    }
+                }
+                if hits == 0 {
+                    continue;
+                }
+                let a = hits as f32 / (n * n) as f32;
+                let o = &mut op[(ty * ow + tx) as usize];
+                for (k, v) in o.iter_mut().enumerate() {
+                    let mark = sum[k] / hits as f32;
+                    *v = (*v as f32 * (1.0 - a) + mark * a + 0.5) as u8;
+                }
+            }
+        }
+    }
+
     /// The source pixels `(y, x)` of the mark.
     fn pixels(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         let rw = (self.rect[2] - self.rect[0]) as usize;

@@ -13,7 +13,7 @@ mod ripmap;
 mod sample;
 
 pub(crate) use fill::fill_from_surroundings;
-pub(crate) use floating::Floating;
+pub(crate) use floating::{area_marks, Floating};
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;

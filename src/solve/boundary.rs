@@ -10,6 +10,12 @@
 //! * A vertex of a text block is `(tx + s·x, ty + s·y)` with the block's three unknowns: the
 //!   block moves as one piece with one scale, no shear, no rotation.
 //!
+//! * A vertex inside a data area is `(bx + ax·x, by + ay·y)` with the area's four unknowns:
+//!   the area is one axis-aligned affine map, exactly, so its grid stays even, its bars
+//!   proportional and its frame straight. Areas of one width share `ax` (panels of a column, or
+//!   small multiples, stay comparable), and areas over the same columns share `bx` too; the
+//!   same along y. Text blocks and lines that lie mostly inside an area follow its map whole.
+//!
 //! All of this keeps the energy quadratic: substituting affine functions of the unknowns into
 //! a quadratic leaves a quadratic, so the solve stays one sparse system.
 
@@ -162,6 +168,105 @@ pub(crate) fn text_rows(text: &[TextBlock], vertical: &[crate::structure::Line])
     (0..text.len()).map(|i| find(&mut parent, i)).collect()
 }
 
+/// Which data area each vertex, line and text block follows, and which areas share unknowns.
+#[derive(Default)]
+struct AreaMembers {
+    /// Per area, the group of each of its four unknowns `[ax, bx, ay, by]`.
+    groups: Vec<[usize; 4]>,
+    /// The area each text block and each line follows whole.
+    blocks: Vec<Option<usize>>,
+    hlines: Vec<Option<usize>>,
+    vlines: Vec<Option<usize>>,
+    areas: Vec<crate::structure::DataArea>,
+}
+
+/// The areas a vertex follows along x and along y.
+#[derive(Default)]
+struct VertexArea {
+    x: Option<usize>,
+    y: Option<usize>,
+}
+
+/// Sizes (px) within which two areas' widths or positions count as one.
+const SAME_AXIS_PX: f64 = 3.0;
+
+impl AreaMembers {
+    fn of(s: &crate::structure::Structure) -> AreaMembers {
+        let areas = s.areas.clone();
+        let n = areas.len();
+        let same = |a: f64, b: f64| (a - b).abs() <= SAME_AXIS_PX.max(0.01 * a.abs().max(b.abs()));
+        // Group i of area k: the first area equal to it in that respect.
+        let group =
+            |k: usize, eq: &dyn Fn(usize, usize) -> bool| (0..=k).find(|&j| eq(j, k)).unwrap_or(k);
+        let groups = (0..n)
+            .map(|k| {
+                let a = &areas;
+                [
+                    group(k, &|i, j| same(a[i].x1 - a[i].x0, a[j].x1 - a[j].x0)),
+                    group(k, &|i, j| same(a[i].x0, a[j].x0) && same(a[i].x1, a[j].x1)),
+                    group(k, &|i, j| same(a[i].y1 - a[i].y0, a[j].y1 - a[j].y0)),
+                    group(k, &|i, j| same(a[i].y0, a[j].y0) && same(a[i].y1, a[j].y1)),
+                ]
+            })
+            .collect();
+        // Mostly inside: at least half of a block's box, half of a line's length.
+        let inside_box = |x0: f64, y0: f64, x1: f64, y1: f64| {
+            areas.iter().position(|a| {
+                let ow = (x1.min(a.x1) - x0.max(a.x0)).max(0.0);
+                let oh = (y1.min(a.y1) - y0.max(a.y0)).max(0.0);
+                ow * oh >= 0.5 * (x1 - x0) * (y1 - y0)
+            })
+        };
+        let blocks = s
+            .text
+            .iter()
+            .map(|b| inside_box(b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64))
+            .collect();
+        let line_in = |l: &crate::structure::Line, horizontal: bool| {
+            areas.iter().position(|a| {
+                let (p0, p1, s0, s1) = if horizontal {
+                    (a.y0, a.y1, a.x0, a.x1)
+                } else {
+                    (a.x0, a.x1, a.y0, a.y1)
+                };
+                let along = (l.to.min(s1) - l.from.max(s0)).max(0.0);
+                l.pos >= p0 - 1.0 && l.pos <= p1 + 1.0 && along >= 0.5 * (l.to - l.from)
+            })
+        };
+        AreaMembers {
+            groups,
+            blocks,
+            hlines: s.horizontal.iter().map(|l| line_in(l, true)).collect(),
+            vlines: s.vertical.iter().map(|l| line_in(l, false)).collect(),
+            areas,
+        }
+    }
+
+    /// The areas vertex `p` with `role` follows: its block's or line's if they follow one,
+    /// else the area it lies in (its sides counted in); a block or line that follows none
+    /// keeps its own unknowns.
+    fn of_vertex(&self, p: DVec2, role: crate::mesh::Role) -> VertexArea {
+        if self.areas.is_empty() {
+            return VertexArea::default();
+        }
+        if let Some(k) = role.block {
+            let a = self.blocks.get(k as usize).copied().flatten();
+            return VertexArea { x: a, y: a };
+        }
+        let at = self.areas.iter().position(|a| a.contains(p.x, p.y, 1e-6));
+        let vl = role
+            .vline
+            .and_then(|k| self.vlines.get(k as usize).copied().flatten());
+        let hl = role
+            .hline
+            .and_then(|k| self.hlines.get(k as usize).copied().flatten());
+        VertexArea {
+            x: at.or(vl),
+            y: at.or(hl),
+        }
+    }
+}
+
 /// Which unknowns each vertex coordinate and each triangle scale are.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Layout {
@@ -178,6 +283,9 @@ pub(crate) struct Layout {
     /// ([`FIXED`] when no free vertex uses it).
     pub hlines: Vec<u32>,
     pub vlines: Vec<u32>,
+    /// The unknowns `[ax, bx, ay, by]` of each data area's map `(bx + ax·x, by + ay·y)`
+    /// ([`FIXED`] where no vertex uses them).
+    pub areas: Vec<[u32; 4]>,
     /// Free position unknowns (the paper's DOF).
     pub dof: usize,
     /// Number of unknowns.
@@ -225,6 +333,10 @@ impl Layout {
         let n_blocks = mesh.structure().map_or(0, |s| s.text.len());
         let n_h = mesh.structure().map_or(0, |s| s.horizontal.len());
         let n_v = mesh.structure().map_or(0, |s| s.vertical.len());
+        let members = mesh.structure().map(AreaMembers::of).unwrap_or_default();
+        let n_areas = members.groups.len();
+        // The shared unknowns of each group (scale along x, offset along x, along y).
+        let mut group_vars: std::collections::HashMap<(u8, usize), u32> = Default::default();
         let mut l = Layout {
             x: Vec::with_capacity(nv),
             y: Vec::with_capacity(nv),
@@ -232,6 +344,7 @@ impl Layout {
             blocks: vec![[FIXED; 3]; n_blocks],
             hlines: vec![FIXED; n_h],
             vlines: vec![FIXED; n_v],
+            areas: vec![[FIXED; 4]; n_areas],
             dof: 0,
             n: 0,
             uses: Vec::new(),
@@ -260,8 +373,20 @@ impl Layout {
                 continue;
             }
             let block = role.block.map(|k| k as usize);
+            let area = members.of_vertex(p, role);
+            let mut area_var = |k: usize, i: usize, fresh: &mut dyn FnMut() -> u32| -> u32 {
+                let key = (i as u8, members.groups[k][i]);
+                let v = *group_vars.entry(key).or_insert_with(fresh);
+                l.areas[k][i] = v;
+                v
+            };
             let x = if b.fixes_x() {
                 Coord::fixed(if p.x >= w { tw } else { 0.0 })
+            } else if let Some(k) = area.x {
+                {
+                    let (bx, ax) = (area_var(k, 1, &mut fresh), area_var(k, 0, &mut fresh));
+                    Coord::affine(0.0, (bx, 1.0), (ax, p.x))
+                }
             } else if let Some(k) = block {
                 if l.blocks[k][0] == FIXED {
                     // Blocks of one row share their vertical place and scale.
@@ -281,6 +406,11 @@ impl Layout {
             };
             let y = if b.fixes_y() {
                 Coord::fixed(if p.y >= h { th } else { 0.0 })
+            } else if let Some(k) = area.y {
+                {
+                    let (by, ay) = (area_var(k, 3, &mut fresh), area_var(k, 2, &mut fresh));
+                    Coord::affine(0.0, (by, 1.0), (ay, p.y))
+                }
             } else if let Some(k) = block {
                 let bl = l.blocks[k];
                 Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y))

@@ -102,6 +102,46 @@ impl Warp {
         &self.scales
     }
 
+    /// The map `[ax, bx, ay, by]` (`x' = ax·x + bx`, `y' = ay·y + by`) that carries each data
+    /// area of `mesh`'s structure, fitted to the vertices inside it that are not text (those
+    /// follow it exactly, up to the renderer's grid); `None` for an area without two distinct
+    /// vertex positions along each axis.
+    pub fn area_maps(&self, mesh: &Mesh) -> Vec<Option<[f64; 4]>> {
+        let Some(st) = mesh.structure() else {
+            return Vec::new();
+        };
+        let roles = mesh.roles();
+        st.areas
+            .iter()
+            .map(|a| {
+                let inside = mesh.vertices().iter().enumerate().filter(|&(i, p)| {
+                    a.contains(p.x, p.y, 0.0)
+                        && roles.get(i).is_none_or(|r| r.block.is_none())
+                        && !mesh.boundary()[i].fixes_x()
+                        && !mesh.boundary()[i].fixes_y()
+                });
+                let (mut n, mut sx, mut sxx, mut su, mut sxu) = (0.0, 0.0, 0.0, 0.0, 0.0);
+                let (mut sy, mut syy, mut sv, mut syv) = (0.0, 0.0, 0.0, 0.0);
+                for (i, p) in inside {
+                    let q = self.positions[i];
+                    n += 1.0;
+                    (sx, sxx, su, sxu) = (sx + p.x, sxx + p.x * p.x, su + q.x, sxu + p.x * q.x);
+                    (sy, syy, sv, syv) = (sy + p.y, syy + p.y * p.y, sv + q.y, syv + p.y * q.y);
+                }
+                let fit = |s: f64, ss: f64, t: f64, st: f64| {
+                    let d = n * ss - s * s;
+                    (d > 1e-9 * n * n).then(|| {
+                        let a = (n * st - s * t) / d;
+                        (a, (t - a * s) / n)
+                    })
+                };
+                let (ax, bx) = fit(sx, sxx, su, sxu)?;
+                let (ay, by) = fit(sy, syy, sv, syv)?;
+                Some([ax, bx, ay, by])
+            })
+            .collect()
+    }
+
     /// Number of triangles with non-positive deformed area (always 0 for a solved warp).
     pub fn folded_triangles(&self, mesh: &Mesh) -> usize {
         repair::folded(mesh, &self.positions).len()

@@ -62,6 +62,23 @@ pub(crate) fn triangle_saliency(mesh: &Mesh, vsm: &Vsm, hold_fans: bool, out: &m
             }
         }
     }
+    // Inside a data area the map is one affine map whatever the weights: its triangles only
+    // decide how much of the squeeze the area takes. A responsive layout gives it all that
+    // the text around it does not need, so they weigh like empty ground (and text, held at
+    // its size, does not lose to a large salient plot).
+    if let Some(areas) = mesh
+        .structure()
+        .map(|s| &s.areas[..])
+        .filter(|a| !a.is_empty())
+    {
+        for (t, l) in out.iter_mut().enumerate() {
+            let p = mesh.triangle_points(t);
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            if areas.iter().any(|a| a.contains(c.x, c.y, 0.0)) {
+                *l = 0.0;
+            }
+        }
+    }
 }
 
 /// Sum of a short row, in eight f32 lanes (vectorizes; a span is at most a few hundred pixels

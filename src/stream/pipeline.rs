@@ -210,6 +210,7 @@ impl Pipeline {
             let mut mesher = MeshStage::new(
                 MeshOptions {
                     alpha: options.alpha,
+                    regions: options.regions,
                 },
                 options.reuse.clone(),
                 options.structure,

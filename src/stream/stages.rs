@@ -243,7 +243,9 @@ impl MeshStage {
         };
         self.last_vsm = Some(vsm.clone());
         if decision == Decision::Rebuild {
-            let structure = self.structure.then(|| Structure::detect(image.as_ref()));
+            let structure = self
+                .structure
+                .then(|| Structure::detect_with(image.as_ref(), self.options.regions));
             let (inc, mesh) = IncrementalMesh::build_with_marks(
                 vsm,
                 structure.as_ref(),
@@ -519,12 +521,7 @@ impl RenderStage {
         let mesh = &m.mesh;
         let opaque = src.is_opaque();
         let target = warp.target();
-        let floating = if m.floating.is_empty() {
-            Floating::default()
-        } else {
-            let locator = WarpLocator::new(mesh, warp);
-            Floating::new(src, vsm, &m.floating, warp.target(), |c| locator.map(c))
-        };
+        let floating = floating_marks(src, vsm, m, warp);
         // The warp reads the source with the floating marks painted out.
         let warped: &Image = if floating.is_empty() {
             src
@@ -608,6 +605,54 @@ impl RenderStage {
         });
         out
     }
+}
+
+/// The marks drawn over the warp at their own shape: the marks of a stream that the kept
+/// mesh does not ring (at their own size, where the warp carries them), and the marks of each
+/// data area (at the area's one scale, the geometric mean of its map's scales, so that a
+/// round mark stays round and sizes that encode data keep their proportions; centred where
+/// the area's map takes their centre).
+fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
+    let mesh = &m.mesh;
+    let in_areas = mesh
+        .structure()
+        .filter(|s| !s.areas.is_empty())
+        .map(|s| crate::render::area_marks(vsm, &s.areas, &s.text))
+        .unwrap_or_default();
+    if m.floating.is_empty() && in_areas.is_empty() {
+        return Floating::default();
+    }
+    let maps = if in_areas.is_empty() {
+        Vec::new()
+    } else {
+        warp.area_maps(mesh)
+    };
+    // Stream marks inside an area float with the area's marks.
+    let loose: Vec<Mark> = m
+        .floating
+        .iter()
+        .filter(|f| {
+            !in_areas
+                .iter()
+                .any(|(a, _)| a.center.distance(f.center) < a.ring_radius)
+        })
+        .copied()
+        .collect();
+    let n_loose = loose.len();
+    let mut marks = loose;
+    marks.extend(in_areas.iter().map(|(mk, _)| *mk));
+    let locator = (n_loose > 0).then(|| WarpLocator::new(mesh, warp));
+    Floating::new(src, vsm, &marks, warp.target(), |i, mk| {
+        if i < n_loose {
+            return locator.as_ref()?.map(mk.center).map(|p| (p, 1.0));
+        }
+        let [ax, bx, ay, by] = (*maps.get(in_areas[i - n_loose].1)?)?;
+        let scale = (ax * ay).max(0.0).sqrt();
+        Some((
+            DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by),
+            scale,
+        ))
+    })
 }
 
 /// For each triangle of `mesh`: whether the previous mesh had it (the same three vertex ids)

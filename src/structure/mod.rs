@@ -4,12 +4,16 @@
 //! blocks similar (one scale, no shear), which the paper's energy alone does not.
 //!
 //! * [`lines`]: runs of luminance steps along pixel-row and -column boundaries;
-//! * [`text`]: rows of small high-contrast components.
+//! * [`text`]: rows of small high-contrast components;
+//! * [`areas`]: data areas, the rectangles bounded by axes, frames, grids or a baseline, where
+//!   the warp is one affine map.
 
+mod areas;
 mod lines;
 mod luma;
 mod text;
 
+pub use areas::{AreaKind, DataArea};
 pub use lines::Line;
 pub use text::TextBlock;
 
@@ -24,6 +28,20 @@ pub struct Structure {
     pub vertical: Vec<Line>,
     /// Text blocks.
     pub text: Vec<TextBlock>,
+    /// Data areas: one axis-aligned affine map each.
+    pub areas: Vec<DataArea>,
+}
+
+/// Which regions of a picture are data areas (`--regions`).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub enum Regions {
+    /// Data areas where axes, frames, grids or bars show them; the free warp elsewhere.
+    #[default]
+    Auto,
+    /// The whole canvas is one data area: a linear resize, with marks floating at one scale.
+    Affine,
+    /// No data areas: the paper's free warp everywhere.
+    Free,
 }
 
 impl Structure {
@@ -59,16 +77,41 @@ impl Structure {
                 .chain(v_found.weak)
                 .filter(|l| clear(l, |b| [b.x0, b.x1, b.y0, b.y1])),
         );
+        let areas = areas::detect(&horizontal, &vertical, w as f64, h as f64);
         Structure {
             horizontal,
             vertical,
             text,
+            areas,
         }
+    }
+
+    /// Like [`Structure::detect`], with the data areas chosen by `regions`.
+    pub fn detect_with(image: ImageRef<'_>, regions: Regions) -> Structure {
+        let mut s = Structure::detect(image);
+        match regions {
+            Regions::Auto => {}
+            Regions::Free => s.areas.clear(),
+            Regions::Affine => {
+                let (w, h) = (image.width() as f64, image.height() as f64);
+                s.areas = vec![DataArea {
+                    x0: 1.0,
+                    y0: 1.0,
+                    x1: w - 1.0,
+                    y1: h - 1.0,
+                    kind: AreaKind::Canvas,
+                }];
+            }
+        }
+        s
     }
 
     /// Nothing found.
     pub fn is_empty(&self) -> bool {
-        self.horizontal.is_empty() && self.vertical.is_empty() && self.text.is_empty()
+        self.horizontal.is_empty()
+            && self.vertical.is_empty()
+            && self.text.is_empty()
+            && self.areas.is_empty()
     }
 }
 

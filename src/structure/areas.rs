@@ -1,0 +1,360 @@
+//! Data areas: the rectangles of a chart where a position or a length is read off an axis
+//! (a plot between its axes, a framed panel, a grid of evenly spaced lines or cells, bars on a
+//! baseline). Inside one the warp must be a single axis-aligned affine map, or the chart lies;
+//! outside (margins, gutters, titles, and pictures without axes such as maps and node-link
+//! graphs) the paper's free warp stays.
+//!
+//! Found from the lines of [`super::lines`] only, by what makes an area in any charting tool:
+//! * two long lines meeting at a corner (an x and a y axis, or two sides of a frame);
+//! * at least [`MIN_GRID_LINES`] long parallel lines of one span, evenly spaced (grid lines,
+//!   the white separators of a heat map's cells);
+//! * at least [`MIN_BARS`] edges rising from one long line (bars sharing a baseline).
+//!
+//! A line is long when it spans [`MIN_SHARE`] of the picture along it: an axis spans most of
+//! its panel, and a picture rarely holds panels narrower than that; the sides of marks, bars
+//! and letters are shorter.
+
+use super::Line;
+
+/// Least share of the picture's side a line spans to bound a data area.
+const MIN_SHARE: f64 = 0.1;
+/// Least length of such a line in pixels, on small pictures.
+const MIN_PX: f64 = 32.0;
+/// How far apart two line ends may be and still meet at a corner, pixels: ticks and the
+/// thickness of the lines themselves leave a few pixels between them.
+const CORNER_PX: f64 = 4.0;
+/// Least number of evenly spaced lines that make a grid.
+const MIN_GRID_LINES: usize = 4;
+/// Most deviation of a grid's spacing from its median, as a share of it.
+const GRID_EVEN: f64 = 0.15;
+/// Least number of edges standing on one baseline that make a bar chart.
+const MIN_BARS: usize = 3;
+/// Areas overlapping by this share of the smaller one are one area.
+const SAME_AREA: f64 = 0.6;
+
+/// What an area was found by.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum AreaKind {
+    /// Two long lines meeting at a corner: axes or a frame.
+    Axes,
+    /// Evenly spaced parallel lines: a grid, a heat map's cells.
+    Grid,
+    /// Bars standing on one baseline.
+    Bars,
+    /// The whole canvas, by request (`--regions affine`).
+    Canvas,
+}
+
+/// A data area: the rectangle `[x0, x1] × [y0, y1]` (image pixels) that one affine map
+/// carries.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct DataArea {
+    pub x0: f64,
+    pub y0: f64,
+    pub x1: f64,
+    pub y1: f64,
+    pub kind: AreaKind,
+}
+
+impl DataArea {
+    /// Whether `(x, y)` lies in the area, `tol` pixels around it counted in.
+    pub fn contains(&self, x: f64, y: f64, tol: f64) -> bool {
+        x >= self.x0 - tol && x <= self.x1 + tol && y >= self.y0 - tol && y <= self.y1 + tol
+    }
+
+    fn area(&self) -> f64 {
+        (self.x1 - self.x0).max(0.0) * (self.y1 - self.y0).max(0.0)
+    }
+
+    fn overlap(&self, o: &DataArea) -> f64 {
+        let w = self.x1.min(o.x1) - self.x0.max(o.x0);
+        let h = self.y1.min(o.y1) - self.y0.max(o.y0);
+        w.max(0.0) * h.max(0.0)
+    }
+}
+
+/// The data areas bounded by `horizontal` and `vertical` lines on a `w × h` picture.
+pub(crate) fn detect(horizontal: &[Line], vertical: &[Line], w: f64, h: f64) -> Vec<DataArea> {
+    let long = |l: &&Line, side: f64| l.to - l.from >= (MIN_SHARE * side).max(MIN_PX);
+    let (horizontal, vertical) = (joined(horizontal), joined(vertical));
+    let hs: Vec<&Line> = horizontal.iter().filter(|l| long(l, w)).collect();
+    let vs: Vec<&Line> = vertical.iter().filter(|l| long(l, h)).collect();
+    let mut found = Vec::new();
+    corners(&hs, &vs, &mut found);
+    grids(&hs, true, &mut found);
+    grids(&vs, false, &mut found);
+    bars(&hs, &vertical, &mut found);
+    let min_side = MIN_PX;
+    found.retain(|a: &DataArea| a.x1 - a.x0 >= min_side && a.y1 - a.y0 >= min_side);
+    // Clear of the canvas border, which the boundary conditions hold.
+    for a in &mut found {
+        a.x0 = a.x0.max(1.0);
+        a.y0 = a.y0.max(1.0);
+        a.x1 = a.x1.min(w - 1.0);
+        a.y1 = a.y1.min(h - 1.0);
+    }
+    merge(found)
+}
+
+/// Collinear pieces with short gaps as one line: a heat map's separators, broken where they
+/// cross (both sides of a crossing are the separator's colour, so nothing steps there).
+fn joined(lines: &[Line]) -> Vec<Line> {
+    let mut sorted = lines.to_vec();
+    sorted.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.from.total_cmp(&b.from)));
+    let mut out: Vec<Line> = Vec::with_capacity(sorted.len());
+    for l in sorted {
+        match out.last_mut() {
+            Some(o) if (o.pos - l.pos).abs() < 0.75 && l.from - o.to <= 2.0 * CORNER_PX => {
+                o.to = o.to.max(l.to);
+                o.width = o.width.max(l.width);
+            }
+            _ => out.push(l),
+        }
+    }
+    out
+}
+
+/// Rectangles from a horizontal and a vertical line meeting at one end of each.
+fn corners(hs: &[&Line], vs: &[&Line], out: &mut Vec<DataArea>) {
+    for hl in hs {
+        for vl in vs {
+            let tol = CORNER_PX + (hl.width.max(vl.width) as f64);
+            let near = |a: f64, b: f64| (a - b).abs() <= tol;
+            // The vertical line's end at the horizontal line, and the horizontal line's end at
+            // the vertical line: the far ends give the rectangle's other sides.
+            let y_far = if near(vl.to, hl.pos) {
+                vl.from
+            } else if near(vl.from, hl.pos) {
+                vl.to
+            } else {
+                continue;
+            };
+            let x_far = if near(hl.from, vl.pos) {
+                hl.to
+            } else if near(hl.to, vl.pos) {
+                hl.from
+            } else {
+                continue;
+            };
+            out.push(DataArea {
+                x0: vl.pos.min(x_far),
+                x1: vl.pos.max(x_far),
+                y0: hl.pos.min(y_far),
+                y1: hl.pos.max(y_far),
+                kind: AreaKind::Axes,
+            });
+        }
+    }
+}
+
+/// Rectangles spanned by evenly spaced parallel lines of one span.
+fn grids(lines: &[&Line], horizontal: bool, out: &mut Vec<DataArea>) {
+    let mut sorted: Vec<&Line> = lines.to_vec();
+    sorted.sort_by(|a, b| a.pos.total_cmp(&b.pos));
+    let mut used = vec![false; sorted.len()];
+    for i in 0..sorted.len() {
+        if used[i] {
+            continue;
+        }
+        let l = sorted[i];
+        let tol = CORNER_PX.max(0.03 * (l.to - l.from));
+        let same: Vec<usize> = (i..sorted.len())
+            .filter(|&j| {
+                !used[j]
+                    && (sorted[j].from - l.from).abs() <= tol
+                    && (sorted[j].to - l.to).abs() <= tol
+            })
+            .collect();
+        // Positions a pixel or two apart are the two edges of one separator.
+        let mut pos: Vec<f64> = Vec::new();
+        for &j in &same {
+            if pos.last().is_none_or(|&p| sorted[j].pos - p > 3.0) {
+                pos.push(sorted[j].pos);
+            }
+        }
+        if pos.len() < MIN_GRID_LINES {
+            continue;
+        }
+        let mut gaps: Vec<f64> = pos.windows(2).map(|p| p[1] - p[0]).collect();
+        gaps.sort_by(|a, b| a.total_cmp(b));
+        let median = gaps[gaps.len() / 2];
+        if median < 4.0
+            || gaps
+                .iter()
+                .any(|g| (g - median).abs() > GRID_EVEN * median + 1.5)
+        {
+            continue;
+        }
+        for &j in &same {
+            used[j] = true;
+        }
+        let (a0, a1) = (pos[0], pos[pos.len() - 1]);
+        let (b0, b1) = (l.from, l.to);
+        out.push(if horizontal {
+            DataArea {
+                x0: b0,
+                x1: b1,
+                y0: a0,
+                y1: a1,
+                kind: AreaKind::Grid,
+            }
+        } else {
+            DataArea {
+                x0: a0,
+                x1: a1,
+                y0: b0,
+                y1: b1,
+                kind: AreaKind::Grid,
+            }
+        });
+    }
+}
+
+/// Rectangles of bars standing on (or hanging from) a long horizontal line: the line's span,
+/// up to the far end of the tallest bar.
+fn bars(hs: &[&Line], vertical: &[Line], out: &mut Vec<DataArea>) {
+    for base in hs {
+        let tol = CORNER_PX + base.width as f64;
+        let on = |v: &&Line| v.pos >= base.from - tol && v.pos <= base.to + tol;
+        let up: Vec<&Line> = vertical
+            .iter()
+            .filter(|v| on(v) && (v.to - base.pos).abs() <= tol && v.from < base.pos - tol)
+            .collect();
+        let down: Vec<&Line> = vertical
+            .iter()
+            .filter(|v| on(v) && (v.from - base.pos).abs() <= tol && v.to > base.pos + tol)
+            .collect();
+        for (standing, up) in [(up, true), (down, false)] {
+            if standing.len() < 2 * MIN_BARS {
+                // Each bar shows two sides.
+                continue;
+            }
+            let far = if up {
+                standing.iter().map(|v| v.from).fold(f64::MAX, f64::min)
+            } else {
+                standing.iter().map(|v| v.to).fold(f64::MIN, f64::max)
+            };
+            out.push(DataArea {
+                x0: base.from,
+                x1: base.to,
+                y0: base.pos.min(far),
+                y1: base.pos.max(far),
+                kind: AreaKind::Bars,
+            });
+        }
+    }
+}
+
+/// Areas that overlap much become their union; areas inside another are part of it.
+fn merge(mut areas: Vec<DataArea>) -> Vec<DataArea> {
+    loop {
+        let mut merged = false;
+        'outer: for i in 0..areas.len() {
+            for j in i + 1..areas.len() {
+                let (a, b) = (areas[i], areas[j]);
+                let small = a.area().min(b.area());
+                if small > 0.0 && a.overlap(&b) >= SAME_AREA * small {
+                    areas[i] = DataArea {
+                        x0: a.x0.min(b.x0),
+                        y0: a.y0.min(b.y0),
+                        x1: a.x1.max(b.x1),
+                        y1: a.y1.max(b.y1),
+                        kind: if a.area() >= b.area() { a.kind } else { b.kind },
+                    };
+                    areas.swap_remove(j);
+                    merged = true;
+                    break 'outer;
+                }
+            }
+        }
+        if !merged {
+            break;
+        }
+    }
+    areas.sort_by(|a, b| a.y0.total_cmp(&b.y0).then(a.x0.total_cmp(&b.x0)));
+    areas
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(pos: f64, from: f64, to: f64) -> Line {
+        Line {
+            pos,
+            from,
+            to,
+            width: 1,
+        }
+    }
+
+    #[test]
+    fn two_axes_meeting_make_an_area() {
+        // y axis at x = 50 from y = 20 to 300, x axis at y = 300 from x = 50 to 600.
+        let a = detect(
+            &[line(300.0, 50.0, 600.0)],
+            &[line(50.0, 20.0, 300.0)],
+            640.0,
+            340.0,
+        );
+        assert_eq!(a.len(), 1);
+        assert_eq!(
+            (a[0].x0, a[0].y0, a[0].x1, a[0].y1),
+            (50.0, 20.0, 600.0, 300.0)
+        );
+        assert_eq!(a[0].kind, AreaKind::Axes);
+    }
+
+    #[test]
+    fn a_frame_is_one_area() {
+        let hs = [line(20.0, 50.0, 600.0), line(300.0, 50.0, 600.0)];
+        let vs = [line(50.0, 20.0, 300.0), line(600.0, 20.0, 300.0)];
+        let a = detect(&hs, &vs, 640.0, 340.0);
+        assert_eq!(a.len(), 1);
+    }
+
+    #[test]
+    fn lines_apart_make_no_area() {
+        // A long horizontal and a long vertical line that do not meet (a map's border pieces).
+        let a = detect(
+            &[line(300.0, 200.0, 600.0)],
+            &[line(50.0, 20.0, 200.0)],
+            640.0,
+            340.0,
+        );
+        assert!(a.is_empty(), "{a:?}");
+    }
+
+    #[test]
+    fn evenly_spaced_lines_make_a_grid() {
+        let hs: Vec<Line> = (0..6)
+            .map(|i| line(40.0 + 50.0 * i as f64, 100.0, 500.0))
+            .collect();
+        let a = detect(&hs, &[], 640.0, 400.0);
+        assert_eq!(a.len(), 1);
+        assert_eq!(a[0].kind, AreaKind::Grid);
+        assert_eq!((a[0].y0, a[0].y1), (40.0, 290.0));
+        // Uneven spacing is no grid.
+        let uneven: Vec<Line> = [40.0, 60.0, 150.0, 170.0, 300.0]
+            .iter()
+            .map(|&p| line(p, 100.0, 500.0))
+            .collect();
+        assert!(detect(&uneven, &[], 640.0, 400.0).is_empty());
+    }
+
+    #[test]
+    fn bars_on_a_baseline_make_an_area() {
+        let base = [line(300.0, 40.0, 600.0)];
+        let sides: Vec<Line> = (0..4)
+            .flat_map(|i| {
+                let x = 80.0 + 120.0 * i as f64;
+                let top = 100.0 + 30.0 * i as f64;
+                [line(x, top, 300.0), line(x + 60.0, top, 300.0)]
+            })
+            .collect();
+        let a = detect(&base, &sides, 640.0, 340.0);
+        assert_eq!(a.len(), 1);
+        assert_eq!(a[0].kind, AreaKind::Bars);
+        assert_eq!((a[0].y0, a[0].y1), (100.0, 300.0));
+    }
+}
