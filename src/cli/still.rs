@@ -79,7 +79,7 @@ fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Resu
     }
     let path = dir.join("structure.json");
     let mut json = structure_json(&structure);
-    json["text_out"] = text_out_json(&a.mesh, a.warp.positions());
+    json["text_out"] = text_out_json(&a.mesh, &a.warp);
     std::fs::write(&path, json.to_string())
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
@@ -103,8 +103,29 @@ fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
 
 /// Where the warp put each text block: `[x0, y0, x1, y1, scale]` in output pixels, the box of
 /// its vertices and its width's scale (a block keeps one scale), or null for a block without
-/// vertices of its own.
-fn text_out_json(mesh: &vizretarget::mesh::Mesh, out: &[glam::DVec2]) -> serde_json::Value {
+/// vertices of its own. A block inside a data area is drawn over the area's map at its own
+/// scale, centred where the map takes its centre.
+fn text_out_json(mesh: &vizretarget::mesh::Mesh, warp: &vizretarget::Warp) -> serde_json::Value {
+    let out = warp.positions();
+    let maps = warp.area_maps(mesh);
+    let floated = |k: usize| -> Option<serde_json::Value> {
+        let s = mesh.structure()?;
+        let b = s.text.get(k)?;
+        let (x0, y0, x1, y1) = (b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64);
+        let (i, area) = s.areas.iter().enumerate().find(|(_, a)| {
+            let ow = (x1.min(a.x1) - x0.max(a.x0)).max(0.0);
+            let oh = (y1.min(a.y1) - y0.max(a.y0)).max(0.0);
+            ow * oh >= 0.5 * (x1 - x0) * (y1 - y0)
+        })?;
+        let map = (*maps.get(i)?)?;
+        let sc = vizretarget::render::area_text_scale(map, area, b);
+        let (cx, cy) = (
+            map[0] * (x0 + x1) / 2.0 + map[1],
+            map[2] * (y0 + y1) / 2.0 + map[3],
+        );
+        let (hw, hh) = (sc * (x1 - x0) / 2.0, sc * (y1 - y0) / 2.0);
+        Some(serde_json::json!([cx - hw, cy - hh, cx + hw, cy + hh, sc]))
+    };
     let n = mesh.structure().map_or(0, |s| s.text.len());
     let mut boxes = vec![None::<[f64; 6]>; n];
     for (i, r) in mesh.roles().iter().enumerate() {
@@ -122,7 +143,9 @@ fn text_out_json(mesh: &vizretarget::mesh::Mesh, out: &[glam::DVec2]) -> serde_j
     }
     boxes
         .iter()
-        .map(|b| match b {
+        .enumerate()
+        .map(|(k, b)| match b {
+            _ if floated(k).is_some() => floated(k).unwrap_or_default(),
             Some(b) if b[5] > b[4] => {
                 serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
             }

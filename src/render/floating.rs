@@ -14,13 +14,14 @@ use super::fill::fill_from_surroundings;
 use crate::image::{Image, Size};
 use crate::mesh::Mark;
 use crate::saliency::Vsm;
+use crate::structure::{DataArea, TextBlock};
 use glam::DVec2;
 
 /// Importance from which a pixel near a mark is part of it (the blob itself is found at 0.5;
 /// this takes in most of its antialiased rim, the one-pixel growth below the rest).
 const RIM_IMPORTANCE: f32 = 0.25;
 /// Pixels beyond the blob's bounding box looked at for its rim.
-const RIM_PX: u32 = 2;
+pub(crate) const RIM_PX: u32 = 2;
 
 /// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks).
 const AREA_MARK_IMPORTANCE: f32 = 0.5;
@@ -31,15 +32,24 @@ const AREA_MARK_SHARE: f64 = 0.35;
 /// length is data read off the axis and must follow the area's map, not keep its shape.
 const RECTANGLE_FILL: f64 = 0.9;
 
+/// The scale a text block inside a data area is drawn at, given the area's map `[ax, bx, ay,
+/// by]`: its own size (text keeps its size), unless the area shrinks along both axes (then
+/// as the larger of the two, as a linear resize would), and never wider or taller than the
+/// area's output.
+pub fn area_text_scale(map: [f64; 4], area: &DataArea, block: &TextBlock) -> f64 {
+    let [ax, _, ay, _] = map;
+    let (bw, bh) = ((block.x1 - block.x0) as f64, (block.y1 - block.y0) as f64);
+    let room_x = ax * (area.x1 - area.x0) / bw.max(1.0);
+    let room_y = ay * (area.y1 - area.y0) / bh.max(1.0);
+    ax.max(ay).min(1.0).min(room_x).min(room_y).max(0.0)
+}
+
 /// The marks inside data areas that float (drawn at one scale per area, centred where the
 /// area's map takes their centre): blobs of high importance inside an area, clear of its
 /// sides (a bar standing on the axis is the axis' business) and of text, not rectangles,
 /// and smaller than [`AREA_MARK_SHARE`] of the area. Each with the index of its area.
-pub(crate) fn area_marks(
-    vsm: &Vsm,
-    areas: &[crate::structure::DataArea],
-    text: &[crate::structure::TextBlock],
-) -> Vec<(Mark, usize)> {
+pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Mark, usize)> {
+    let (areas, text) = (&st.areas[..], &st.text[..]);
     let s = vsm.scale() as f64;
     let grid = vsm.grid_size();
     let (gw, gh) = (grid.width as usize, grid.height as usize);
@@ -96,8 +106,26 @@ pub(crate) fn area_marks(
                 let in_text = text.iter().any(|t| {
                     (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
                 });
+                // A mark on a line would carry the line's pixels along with it: it follows the
+                // map instead (as a linear resize would draw it).
+                let r = RIM_PX as f64;
+                let (fx0, fy0, fx1, fy1) = (
+                    bbox[0] as f64 - r,
+                    bbox[1] as f64 - r,
+                    bbox[2] as f64 + r,
+                    bbox[3] as f64 + r,
+                );
+                let on_line = st
+                    .horizontal
+                    .iter()
+                    .any(|l| l.pos >= fy0 && l.pos <= fy1 && l.from < fx1 && l.to > fx0)
+                    || st
+                        .vertical
+                        .iter()
+                        .any(|l| l.pos >= fx0 && l.pos <= fx1 && l.from < fy1 && l.to > fy0);
                 if touches
                     || in_text
+                    || on_line
                     || bw.max(bh) > max_side
                     || bw.max(bh) < 3.0
                     || fill > RECTANGLE_FILL
@@ -151,15 +179,17 @@ pub(crate) struct Floating {
 }
 
 impl Floating {
-    /// The marks of `src` in `marks`, each placed by `place(index, mark)`: its output centre
-    /// and scale on a canvas of `target` (a mark it cannot place is left to the warp). A mark
+    /// The marks of `src` in `marks`, each placed by `place(index, mark)`: its output centre,
+    /// its scale and the pixels beyond its box looked at for its rim ([`RIM_PX`] for a blob, 0
+    /// for a text block, whose box holds its glyphs whole) on a canvas of `target` (a mark it
+    /// cannot place is left to the warp). A mark
     /// at scale 1 is copied by whole pixels, another is resampled about its centre.
     pub fn new(
         src: &Image,
         vsm: &Vsm,
         marks: &[Mark],
         target: Size,
-        place: impl Fn(usize, &Mark) -> Option<(DVec2, f64)>,
+        place: impl Fn(usize, &Mark) -> Option<(DVec2, f64, u32)>,
     ) -> Floating {
         let (w, h) = (src.width(), src.height());
         let s = vsm.scale();
@@ -167,7 +197,7 @@ impl Floating {
         let imp = vsm.importance();
         let mut pastes = Vec::with_capacity(marks.len());
         for (k, m) in marks.iter().enumerate() {
-            let Some((to, scale)) = place(k, m) else {
+            let Some((to, scale, rim)) = place(k, m) else {
                 continue;
             };
             let d = to - m.center;
@@ -176,10 +206,10 @@ impl Floating {
             }
             let [bx0, by0, bx1, by1] = m.bbox;
             let rect = [
-                bx0.saturating_sub(RIM_PX),
-                by0.saturating_sub(RIM_PX),
-                (bx1 + RIM_PX).min(w),
-                (by1 + RIM_PX).min(h),
+                bx0.saturating_sub(rim),
+                by0.saturating_sub(rim),
+                (bx1 + rim).min(w),
+                (by1 + rim).min(h),
             ];
             let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
             if rw == 0 || rh == 0 {

@@ -13,7 +13,8 @@ mod ripmap;
 mod sample;
 
 pub(crate) use fill::fill_from_surroundings;
-pub(crate) use floating::{area_marks, Floating};
+pub use floating::area_text_scale;
+pub(crate) use floating::{area_marks, Floating, RIM_PX};
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;

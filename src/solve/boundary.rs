@@ -27,49 +27,61 @@ use glam::DVec2;
 /// Marks an absent unknown.
 pub(crate) const FIXED: u32 = u32::MAX;
 
-/// A coordinate as `c + k0·u[v0] + k1·u[v1]` (absent terms have `v = FIXED`).
+/// A coordinate as `c + Σ k_i·u[v_i]` (absent terms have `v = FIXED`).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(crate) struct Coord {
     pub c: f64,
-    pub v: [u32; 2],
-    pub k: [f64; 2],
+    pub v: [u32; 3],
+    pub k: [f64; 3],
 }
 
 impl Coord {
     pub fn fixed(c: f64) -> Coord {
         Coord {
             c,
-            v: [FIXED; 2],
-            k: [0.0; 2],
+            v: [FIXED; 3],
+            k: [0.0; 3],
         }
     }
     pub fn var(v: u32) -> Coord {
         Coord {
             c: 0.0,
-            v: [v, FIXED],
-            k: [1.0, 0.0],
+            v: [v, FIXED, FIXED],
+            k: [1.0, 0.0, 0.0],
         }
     }
     pub fn affine(c: f64, a: (u32, f64), b: (u32, f64)) -> Coord {
         Coord {
             c,
-            v: [a.0, b.0],
-            k: [a.1, b.1],
+            v: [a.0, b.0, FIXED],
+            k: [a.1, b.1, 0.0],
+        }
+    }
+    /// `c + ka·u[a] + kb·u[b] + kd·u[d]`.
+    pub fn affine3(c: f64, a: (u32, f64), b: (u32, f64), d: (u32, f64)) -> Coord {
+        Coord {
+            c,
+            v: [a.0, b.0, d.0],
+            k: [a.1, b.1, d.1],
         }
     }
     /// No unknown in it.
     pub fn is_fixed(&self) -> bool {
-        self.v[0] == FIXED && self.v[1] == FIXED
+        self.v.iter().all(|&v| v == FIXED)
     }
     /// Its one unknown, when it is exactly one unknown (a free or line coordinate).
     pub fn single(&self) -> Option<u32> {
-        (self.v[0] != FIXED && self.v[1] == FIXED && self.k[0] == 1.0 && self.c == 0.0)
+        (self.v[0] != FIXED
+            && self.v[1] == FIXED
+            && self.v[2] == FIXED
+            && self.k[0] == 1.0
+            && self.c == 0.0)
             .then_some(self.v[0])
     }
     /// The terms `(unknown, coefficient)`.
     #[inline]
     pub fn terms(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        (0..2)
+        (0..3)
             .filter(|&i| self.v[i] != FIXED)
             .map(|i| (self.v[i] as usize, self.k[i]))
     }
@@ -166,6 +178,91 @@ pub(crate) fn text_rows(text: &[TextBlock], vertical: &[crate::structure::Line])
         }
     }
     (0..text.len()).map(|i| find(&mut parent, i)).collect()
+}
+
+/// A text block tied to a data area: its centre follows the area's map along one axis, its
+/// size its own scale (tick labels under their ticks, axis titles at the axis' middle, a
+/// panel's title over its plot).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct Attached {
+    pub area: usize,
+    /// Along x (the block is above or below the area) or along y (beside it).
+    pub along_x: bool,
+    /// The block's centre along that axis, source pixels.
+    pub centre: f64,
+}
+
+/// How far from an area's side a block may sit and still belong to it, in line heights:
+/// a tick label sits under its tick, an axis title a line or two further out.
+const ATTACH_LINES: f64 = 3.0;
+
+/// For each text block, the data area it is tied to, if any: a one-line block outside every
+/// area, within [`ATTACH_LINES`] of an area's side and facing it (its centre within the side's
+/// span); the nearest such area.
+pub(crate) fn attachments(s: &crate::structure::Structure) -> Vec<Option<Attached>> {
+    s.text
+        .iter()
+        .map(|b| {
+            let (x0, y0, x1, y1) = (b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64);
+            let lh = b.line_height.max(1) as f64;
+            if y1 - y0 > 1.6 * lh {
+                return None;
+            }
+            let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+            let reach = ATTACH_LINES * lh + 4.0;
+            let mut best: Option<(f64, Attached)> = None;
+            for (k, a) in s.areas.iter().enumerate() {
+                let ow = (x1.min(a.x1) - x0.max(a.x0)).max(0.0);
+                let oh = (y1.min(a.y1) - y0.max(a.y0)).max(0.0);
+                if ow * oh > 0.0 {
+                    return None;
+                }
+                let faces_x = cx >= a.x0 && cx <= a.x1;
+                let faces_y = cy >= a.y0 && cy <= a.y1;
+                let gap_y = (y0 - a.y1).max(a.y0 - y1);
+                let gap_x = (x0 - a.x1).max(a.x0 - x1);
+                let candidates = [
+                    (faces_x && gap_y >= -2.0 && gap_y <= reach, gap_y, true, cx),
+                    (faces_y && gap_x >= -2.0 && gap_x <= reach, gap_x, false, cy),
+                ];
+                for (ok, gap, along_x, centre) in candidates {
+                    if ok && best.is_none_or(|(g, _)| gap < g) {
+                        best = Some((
+                            gap,
+                            Attached {
+                                area: k,
+                                along_x,
+                                centre,
+                            },
+                        ));
+                    }
+                }
+            }
+            best.map(|(_, a)| a)
+        })
+        .collect()
+}
+
+/// The least-squares map `[ax, bx, ay, by]` taking the source points to the output points
+/// (`(source, output)` pairs), if they span both axes.
+pub(crate) fn fit_map(pairs: impl Iterator<Item = (DVec2, DVec2)>) -> Option<[f64; 4]> {
+    let (mut n, mut sx, mut sxx, mut su, mut sxu) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut sy, mut syy, mut sv, mut syv) = (0.0, 0.0, 0.0, 0.0);
+    for (p, q) in pairs {
+        n += 1.0;
+        (sx, sxx, su, sxu) = (sx + p.x, sxx + p.x * p.x, su + q.x, sxu + p.x * q.x);
+        (sy, syy, sv, syv) = (sy + p.y, syy + p.y * p.y, sv + q.y, syv + p.y * q.y);
+    }
+    let fit = |s: f64, ss: f64, t: f64, st: f64| {
+        let d = n * ss - s * s;
+        (d > 1e-9 * n * n).then(|| {
+            let a = (n * st - s * t) / d;
+            (a, (t - a * s) / n)
+        })
+    };
+    let (ax, bx) = fit(sx, sxx, su, sxu)?;
+    let (ay, by) = fit(sy, syy, sv, syv)?;
+    Some([ax, bx, ay, by])
 }
 
 /// Which data area each vertex, line and text block follows, and which areas share unknowns.
@@ -286,6 +383,8 @@ pub(crate) struct Layout {
     /// The unknowns `[ax, bx, ay, by]` of each data area's map `(bx + ax·x, by + ay·y)`
     /// ([`FIXED`] where no vertex uses them).
     pub areas: Vec<[u32; 4]>,
+    /// Whether each vertex follows a data area's map (along x or y).
+    pub on_area: Vec<bool>,
     /// Free position unknowns (the paper's DOF).
     pub dof: usize,
     /// Number of unknowns.
@@ -334,6 +433,25 @@ impl Layout {
         let n_h = mesh.structure().map_or(0, |s| s.horizontal.len());
         let n_v = mesh.structure().map_or(0, |s| s.vertical.len());
         let members = mesh.structure().map(AreaMembers::of).unwrap_or_default();
+        let attached = mesh.structure().map(attachments).unwrap_or_default();
+        // The scale shared by the blocks tied to one side of an area along y (a y axis' tick
+        // labels keep one size).
+        let mut side_scale: std::collections::HashMap<(usize, bool), u32> = Default::default();
+        // A local update holds what lies outside the changed region where the last frame put
+        // it: an area with a vertex held keeps the last frame's map (fitted to its held
+        // vertices) and is no unknown (a few free vertices could not pin its four down).
+        let frozen: Vec<Option<[f64; 4]>> = (0..members.groups.len())
+            .map(|k| {
+                let held_in = mesh.vertices().iter().enumerate().filter_map(|(i, &p)| {
+                    let role = roles.get(i).copied().unwrap_or_default();
+                    let a = members.of_vertex(p, role);
+                    (a.x == Some(k) && a.y == Some(k) && role.block.is_none())
+                        .then(|| held(i).map(|q| (p, q)))
+                        .flatten()
+                });
+                fit_map(held_in)
+            })
+            .collect();
         let n_areas = members.groups.len();
         // The shared unknowns of each group (scale along x, offset along x, along y).
         let mut group_vars: std::collections::HashMap<(u8, usize), u32> = Default::default();
@@ -345,6 +463,7 @@ impl Layout {
             hlines: vec![FIXED; n_h],
             vlines: vec![FIXED; n_v],
             areas: vec![[FIXED; 4]; n_areas],
+            on_area: vec![false; nv],
             dof: 0,
             n: 0,
             uses: Vec::new(),
@@ -374,6 +493,9 @@ impl Layout {
             }
             let block = role.block.map(|k| k as usize);
             let area = members.of_vertex(p, role);
+            l.on_area[i] = area.x.is_some() || area.y.is_some();
+            let map_x = |k: usize, x: f64| frozen[k].map(|m| m[0] * x + m[1]);
+            let map_y = |k: usize, y: f64| frozen[k].map(|m| m[2] * y + m[3]);
             let mut area_var = |k: usize, i: usize, fresh: &mut dyn FnMut() -> u32| -> u32 {
                 let key = (i as u8, members.groups[k][i]);
                 let v = *group_vars.entry(key).or_insert_with(fresh);
@@ -383,19 +505,51 @@ impl Layout {
             let x = if b.fixes_x() {
                 Coord::fixed(if p.x >= w { tw } else { 0.0 })
             } else if let Some(k) = area.x {
-                {
-                    let (bx, ax) = (area_var(k, 1, &mut fresh), area_var(k, 0, &mut fresh));
-                    Coord::affine(0.0, (bx, 1.0), (ax, p.x))
+                match map_x(k, p.x) {
+                    Some(x) => Coord::fixed(x),
+                    None => {
+                        let (bx, ax) = (area_var(k, 1, &mut fresh), area_var(k, 0, &mut fresh));
+                        Coord::affine(0.0, (bx, 1.0), (ax, p.x))
+                    }
                 }
             } else if let Some(k) = block {
-                if l.blocks[k][0] == FIXED {
-                    // Blocks of one row share their vertical place and scale.
-                    let g = rows[k];
-                    let [ty, s] = *row_vars.entry(g).or_insert_with(|| [fresh(), fresh()]);
-                    l.blocks[k] = [fresh(), ty, s];
+                if l.blocks[k][2] == FIXED {
+                    l.blocks[k] = match attached.get(k).copied().flatten() {
+                        // Tied along y: its own x, its y from the area, one scale per side.
+                        Some(at) if !at.along_x => {
+                            let s = *side_scale
+                                .entry((at.area, false))
+                                .or_insert_with(&mut fresh);
+                            [fresh(), FIXED, s]
+                        }
+                        // Blocks of one row share their vertical place and scale; a block
+                        // tied along x takes its x from the area.
+                        at => {
+                            let g = rows[k];
+                            let [ty, s] = *row_vars.entry(g).or_insert_with(|| [fresh(), fresh()]);
+                            [if at.is_some() { FIXED } else { fresh() }, ty, s]
+                        }
+                    };
                 }
                 let bl = l.blocks[k];
-                Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x))
+                match attached.get(k).copied().flatten() {
+                    Some(at) if at.along_x => match map_x(at.area, at.centre) {
+                        Some(c) => Coord::affine(c, (bl[2], p.x - at.centre), (FIXED, 0.0)),
+                        None => {
+                            let (bx, ax) = (
+                                area_var(at.area, 1, &mut fresh),
+                                area_var(at.area, 0, &mut fresh),
+                            );
+                            Coord::affine3(
+                                0.0,
+                                (bx, 1.0),
+                                (ax, at.centre),
+                                (bl[2], p.x - at.centre),
+                            )
+                        }
+                    },
+                    _ => Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x)),
+                }
             } else if let Some(k) = role.vline {
                 let group = st_v[k as usize];
                 let v = *vpos.entry(group).or_insert_with(&mut fresh);
@@ -407,13 +561,33 @@ impl Layout {
             let y = if b.fixes_y() {
                 Coord::fixed(if p.y >= h { th } else { 0.0 })
             } else if let Some(k) = area.y {
-                {
-                    let (by, ay) = (area_var(k, 3, &mut fresh), area_var(k, 2, &mut fresh));
-                    Coord::affine(0.0, (by, 1.0), (ay, p.y))
+                match map_y(k, p.y) {
+                    Some(y) => Coord::fixed(y),
+                    None => {
+                        let (by, ay) = (area_var(k, 3, &mut fresh), area_var(k, 2, &mut fresh));
+                        Coord::affine(0.0, (by, 1.0), (ay, p.y))
+                    }
                 }
             } else if let Some(k) = block {
                 let bl = l.blocks[k];
-                Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y))
+                match attached.get(k).copied().flatten() {
+                    Some(at) if !at.along_x => match map_y(at.area, at.centre) {
+                        Some(c) => Coord::affine(c, (bl[2], p.y - at.centre), (FIXED, 0.0)),
+                        None => {
+                            let (by, ay) = (
+                                area_var(at.area, 3, &mut fresh),
+                                area_var(at.area, 2, &mut fresh),
+                            );
+                            Coord::affine3(
+                                0.0,
+                                (by, 1.0),
+                                (ay, at.centre),
+                                (bl[2], p.y - at.centre),
+                            )
+                        }
+                    },
+                    _ => Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y)),
+                }
             } else if let Some(k) = role.hline {
                 let group = st_h[k as usize];
                 let v = *hpos.entry(group).or_insert_with(&mut fresh);

@@ -237,7 +237,7 @@ pub(crate) fn assemble(
         let g = &geom[t];
         // Weights of the diagonal residuals (J00 − δx·a, J11 − δy·b) and of the off-diagonal
         // ones (J01, J10: shear and rotation), which even empty ground resists a little.
-        let stiff = g.area.max(params.sliver_area * mean_area);
+        let stiff = stiffness(layout, tri, g.area, params.sliver_area * mean_area);
         let cd = stiff * w[t];
         let co = stiff * w[t].max(params.shear_floor * terms.boost[t]);
         let [dx, dy] = terms.delta[t];
@@ -347,6 +347,18 @@ pub(crate) fn assemble(
     }
 }
 
+/// `Â_t`: the triangle's area, at least `floor` (slivers hold their shape), except along a
+/// data area's side: a sliver between the area and a tick label or a gutter is where the
+/// area's map meets the free warp, and must give way.
+fn stiffness(layout: &Layout, tri: &[u32; 3], area: f64, floor: f64) -> f64 {
+    let on_area = tri.map(|v| layout.on_area.get(v as usize).copied().unwrap_or(false));
+    if on_area.contains(&true) && on_area.contains(&false) {
+        area
+    } else {
+        area.max(floor)
+    }
+}
+
 /// Energy of given positions and scales (for tests and diagnostics).
 #[cfg(test)]
 pub(crate) fn energy_of(
@@ -363,7 +375,7 @@ pub(crate) fn energy_of(
         let g = &geom[t];
         let mean_area =
             mesh.size().width as f64 * mesh.size().height as f64 / mesh.triangles().len() as f64;
-        let stiff = g.area.max(params.sliver_area * mean_area);
+        let stiff = stiffness(layout, tri, g.area, params.sliver_area * mean_area);
         let w = weight(params, terms.lambda[t]) * terms.boost[t];
         let wo = w.max(params.shear_floor * terms.boost[t]);
         let mut j = [[0.0; 2]; 2];

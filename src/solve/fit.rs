@@ -242,6 +242,60 @@ pub(crate) fn text_fit_scales(
         .collect()
 }
 
+/// Least gap between two neighbouring labels of one axis, output pixels.
+const LABEL_GAP_PX: f64 = 4.0;
+/// The share of the plain linear scale a data area is expected to keep at least (it gives
+/// some of its room to the text around it).
+const AREA_SCALE_GUESS: f64 = 0.9;
+
+/// Lowers `scales` of the text blocks tied to a data area ([`super::boundary::attachments`])
+/// so that neighbours along one axis (tick labels) do not overlap once the area is scaled:
+/// their centres move with the area, their sizes with their own scale.
+pub(crate) fn attached_fit(
+    text: &[crate::structure::TextBlock],
+    attached: &[Option<super::boundary::Attached>],
+    size: Size,
+    target: Size,
+    scales: &mut [f64],
+) {
+    let mut groups: std::collections::HashMap<(usize, bool), Vec<usize>> = Default::default();
+    for (k, a) in attached.iter().enumerate() {
+        if let Some(a) = a {
+            groups.entry((a.area, a.along_x)).or_default().push(k);
+        }
+    }
+    for ((_, along_x), mut ks) in groups {
+        let est = AREA_SCALE_GUESS
+            * if along_x {
+                target.width as f64 / size.width as f64
+            } else {
+                target.height as f64 / size.height as f64
+            };
+        let extent = |k: usize| {
+            let b = &text[k];
+            if along_x {
+                (b.x0 as f64, b.x1 as f64)
+            } else {
+                (b.y0 as f64, b.y1 as f64)
+            }
+        };
+        ks.sort_by(|&a, &b| extent(a).0.total_cmp(&extent(b).0));
+        for w in ks.windows(2) {
+            let ((a0, a1), (b0, b1)) = (extent(w[0]), extent(w[1]));
+            // Blocks side by side across the axis (two lines of one title) do not crowd.
+            if b0 < a1 {
+                continue;
+            }
+            let apart = ((b0 + b1) - (a0 + a1)) / 2.0 * est - LABEL_GAP_PX;
+            let need = ((a1 - a0) + (b1 - b0)) / 2.0;
+            let fit = (apart / need).clamp(0.05, 1.0);
+            for &k in w {
+                scales[k] = scales[k].min(fit);
+            }
+        }
+    }
+}
+
 /// [`text_fit_scales`] along one axis: x (`horizontal`, walls are vertical lines) or y.
 fn axis_fit(
     text: &[crate::structure::TextBlock],

@@ -120,24 +120,7 @@ impl Warp {
                         && !mesh.boundary()[i].fixes_x()
                         && !mesh.boundary()[i].fixes_y()
                 });
-                let (mut n, mut sx, mut sxx, mut su, mut sxu) = (0.0, 0.0, 0.0, 0.0, 0.0);
-                let (mut sy, mut syy, mut sv, mut syv) = (0.0, 0.0, 0.0, 0.0);
-                for (i, p) in inside {
-                    let q = self.positions[i];
-                    n += 1.0;
-                    (sx, sxx, su, sxu) = (sx + p.x, sxx + p.x * p.x, su + q.x, sxu + p.x * q.x);
-                    (sy, syy, sv, syv) = (sy + p.y, syy + p.y * p.y, sv + q.y, syv + p.y * q.y);
-                }
-                let fit = |s: f64, ss: f64, t: f64, st: f64| {
-                    let d = n * ss - s * s;
-                    (d > 1e-9 * n * n).then(|| {
-                        let a = (n * st - s * t) / d;
-                        (a, (t - a * s) / n)
-                    })
-                };
-                let (ax, bx) = fit(sx, sxx, su, sxu)?;
-                let (ay, by) = fit(sy, syy, sv, syv)?;
-                Some([ax, bx, ay, by])
+                boundary::fit_map(inside.map(|(i, &p)| (p, self.positions[i])))
             })
             .collect()
     }
@@ -326,7 +309,10 @@ impl Solver {
         target: Size,
     ) -> Result<(Warp, SolveStats), Error> {
         self.text_targets = mesh.structure().map_or(Vec::new(), |s| {
-            fit::text_fit_scales(&s.text, s, mesh.size(), target)
+            let mut t = fit::text_fit_scales(&s.text, s, mesh.size(), target);
+            let attached = boundary::attachments(s);
+            fit::attached_fit(&s.text, &attached, mesh.size(), target, &mut t);
+            t
         });
         let text = mesh.structure().map_or(&[][..], |s| &s.text[..]);
         let tt = &self.text_targets;

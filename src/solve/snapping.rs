@@ -53,8 +53,31 @@ pub(crate) fn snap_structure(
             });
         }
     }
+    // A data area's map: both sides land on the output grid as they sat on the source grid
+    // (its frame and axes stay one pixel sharp; areas of one width keep one scale).
+    for (k, vars) in layout.areas.iter().enumerate() {
+        let a = &st.areas[k];
+        for (lo, hi, [va, vb]) in [
+            (a.x0, a.x1, [vars[0], vars[1]]),
+            (a.y0, a.y1, [vars[2], vars[3]]),
+        ] {
+            if va == FIXED || vb == FIXED || hi - lo < 1.0 {
+                continue;
+            }
+            let (sa, sb) = (u[va as usize], u[vb as usize]);
+            let on_grid = |p: f64| p + (sa * p + sb - p).round();
+            let (l, h) = (on_grid(lo), on_grid(hi));
+            let scale = (h - l) / (hi - lo);
+            if scale > 0.0 {
+                elements.push(Element {
+                    vars: vec![(va as usize, scale), (vb as usize, l - scale * lo)],
+                });
+            }
+        }
+    }
     for (k, b) in layout.blocks.iter().enumerate() {
-        if b[0] == FIXED {
+        // A block tied to a data area takes one coordinate from it: not a free whole.
+        if b.contains(&FIXED) {
             continue;
         }
         let (tx, ty, s) = (u[b[0] as usize], u[b[1] as usize], u[b[2] as usize]);

@@ -1,0 +1,293 @@
+//! Data areas (charts stay true): found on charts of each kind, one affine map inside each,
+//! their floating marks at one scale, and nothing found where there are no axes.
+
+use glam::DVec2;
+use proptest::prelude::*;
+use vizretarget::structure::{AreaKind, Structure};
+use vizretarget::{retarget, Image, Options, Regions, Size};
+
+fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
+    for y in y0..y1.min(img.height()) {
+        for x in x0..x1.min(img.width()) {
+            img.set(x, y, c);
+        }
+    }
+}
+
+fn disc(img: &mut Image, cx: f32, cy: f32, r: f32, c: [u8; 4]) {
+    for y in (cy - r - 1.0).max(0.0) as u32..((cy + r + 2.0) as u32).min(img.height()) {
+        for x in (cx - r - 1.0).max(0.0) as u32..((cx + r + 2.0) as u32).min(img.width()) {
+            let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+            if dx * dx + dy * dy <= r * r {
+                img.set(x, y, c);
+            }
+        }
+    }
+}
+
+const AXIS: [u8; 4] = [40, 40, 40, 255];
+const DOT: [u8; 4] = [31, 119, 180, 255];
+
+/// A scatter or bubble chart: an L of axes at (60, 340) spanning to (560, 30), dots of the
+/// given radii at pseudo-random places inside (seeded).
+fn scatter(seed: u32, radii: &[f32]) -> (Image, Vec<(f32, f32, f32)>) {
+    let mut img = Image::filled(Size::new(600, 380).unwrap(), [255; 4]);
+    rect(&mut img, 60, 30, 62, 340, AXIS);
+    rect(&mut img, 60, 338, 560, 340, AXIS);
+    let mut s = seed.max(1);
+    let mut rnd = || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        (s % 10_000) as f32 / 10_000.0
+    };
+    let mut dots: Vec<(f32, f32, f32)> = Vec::new();
+    for &r in radii {
+        for _ in 0..50 {
+            let (x, y) = (90.0 + rnd() * 440.0, 60.0 + rnd() * 250.0);
+            if dots
+                .iter()
+                .all(|&(a, b, q)| (a - x).hypot(b - y) > q + r + 6.0)
+            {
+                disc(&mut img, x, y, r, DOT);
+                dots.push((x, y, r));
+                break;
+            }
+        }
+    }
+    (img, dots)
+}
+
+/// A histogram: bars on a baseline, no y axis line.
+fn histogram() -> Image {
+    let mut img = Image::filled(Size::new(600, 380).unwrap(), [255; 4]);
+    rect(&mut img, 40, 340, 560, 342, AXIS);
+    for (i, h) in [60u32, 120, 200, 260, 180, 90, 40].iter().enumerate() {
+        let x = 60 + 70 * i as u32;
+        rect(&mut img, x, 340 - h, x + 50, 340, [148, 103, 189, 255]);
+    }
+    img
+}
+
+/// A heat map: cells of varied colour with white separators, no axis lines.
+fn heatmap() -> Image {
+    let mut img = Image::filled(Size::new(600, 380).unwrap(), [255; 4]);
+    for r in 0..6u32 {
+        for c in 0..9u32 {
+            let v = ((r * 7 + c * 13) % 10) as u8;
+            let col = [20 + 20 * v, 40 + 15 * v, 160 - 12 * v, 255];
+            let (x, y) = (80 + c * 50, 40 + r * 50);
+            rect(&mut img, x, y, x + 47, y + 47, col);
+        }
+    }
+    img
+}
+
+/// A node-link graph: dots joined by slanted lines, no axes.
+fn graph() -> Image {
+    let mut img = Image::filled(Size::new(600, 380).unwrap(), [255; 4]);
+    let nodes = [
+        (100.0, 80.0),
+        (300.0, 60.0),
+        (500.0, 120.0),
+        (200.0, 300.0),
+        (420.0, 290.0),
+    ];
+    for (i, &(x0, y0)) in nodes.iter().enumerate() {
+        let (x1, y1) = nodes[(i + 2) % nodes.len()];
+        for k in 0..400 {
+            let t = k as f32 / 400.0;
+            disc(
+                &mut img,
+                x0 + t * (x1 - x0),
+                y0 + t * (y1 - y0),
+                1.0,
+                [150, 150, 150, 255],
+            );
+        }
+    }
+    for &(x, y) in &nodes {
+        disc(&mut img, x, y, 12.0, [214, 39, 40, 255]);
+    }
+    img
+}
+
+#[test]
+fn regions_are_found_on_charts_of_each_kind_and_not_on_a_graph() {
+    let (sc, _) = scatter(7, &[6.0; 20]);
+    let found = |img: &Image| Structure::detect(img.as_ref()).areas;
+    let a = found(&sc);
+    assert_eq!(a.len(), 1, "scatter: {a:?}");
+    assert_eq!(a[0].kind, AreaKind::Axes);
+    assert!(
+        (a[0].x0 - 61.0).abs() <= 2.0 && (a[0].y1 - 339.0).abs() <= 2.0,
+        "{a:?}"
+    );
+    let h = found(&histogram());
+    assert_eq!(h.len(), 1, "histogram: {h:?}");
+    assert!(
+        h[0].y0 <= 81.0 && (h[0].y1 - 341.0).abs() <= 2.0,
+        "the tallest bar is in: {h:?}"
+    );
+    let m = found(&heatmap());
+    assert_eq!(m.len(), 1, "heat map: {m:?}");
+    assert!(
+        m[0].x1 - m[0].x0 >= 400.0 && m[0].y1 - m[0].y0 >= 250.0,
+        "{m:?}"
+    );
+    assert!(found(&graph()).is_empty(), "a graph has no axes");
+}
+
+#[test]
+fn regions_free_and_affine_override_what_is_found() {
+    let (sc, _) = scatter(7, &[6.0; 10]);
+    let s = Structure::detect_with(sc.as_ref(), Regions::Free);
+    assert!(s.areas.is_empty());
+    let s = Structure::detect_with(graph().as_ref(), Regions::Affine);
+    assert_eq!(s.areas.len(), 1);
+    assert_eq!(s.areas[0].kind, AreaKind::Canvas);
+}
+
+/// Bounding boxes of the dot colour's connected blobs (4-connected), as (cx, cy, w, h).
+fn blobs(img: &Image) -> Vec<(f64, f64, f64, f64)> {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let is_dot = |x: usize, y: usize| {
+        let p = img.get(x as u32, y as u32);
+        (0..3)
+            .map(|c| (p[c] as i32 - DOT[c] as i32).abs())
+            .sum::<i32>()
+            < 90
+    };
+    let mut seen = vec![false; w * h];
+    let mut out = Vec::new();
+    for start in 0..w * h {
+        if seen[start] || !is_dot(start % w, start / w) {
+            continue;
+        }
+        let mut stack = vec![start];
+        seen[start] = true;
+        let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+        while let Some(i) = stack.pop() {
+            let (x, y) = (i % w, i / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
+            for (nx, ny) in [
+                (x.wrapping_sub(1), y),
+                (x + 1, y),
+                (x, y.wrapping_sub(1)),
+                (x, y + 1),
+            ] {
+                if nx < w && ny < h && !seen[ny * w + nx] && is_dot(nx, ny) {
+                    seen[ny * w + nx] = true;
+                    stack.push(ny * w + nx);
+                }
+            }
+        }
+        out.push((
+            (x0 + x1) as f64 / 2.0,
+            (y0 + y1) as f64 / 2.0,
+            (x1 - x0) as f64,
+            (y1 - y0) as f64,
+        ));
+    }
+    out
+}
+
+/// Bubbles of an area come out round, all at one scale (sizes keep their proportions), and
+/// where the area's one affine map takes their centres (positions read off the axes stay
+/// true).
+#[test]
+fn floating_marks_of_one_area_share_one_scale_and_sit_on_the_map() {
+    let radii = [5.0, 8.0, 12.0, 16.0, 20.0, 7.0, 10.0, 14.0];
+    let (img, dots) = scatter(11, &radii);
+    let target = Size::new(300, 380).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap().image;
+    let found = blobs(&out);
+    assert_eq!(found.len(), dots.len(), "{found:?}");
+    // Match each dot to the blob nearest its linear image, then check one scale and one map.
+    let mut scales = Vec::new();
+    let mut pairs = Vec::new();
+    for &(x, y, r) in &dots {
+        let lin = DVec2::new(x as f64 * 0.5, y as f64);
+        let b = found
+            .iter()
+            .min_by(|a, b| {
+                let da = DVec2::new(a.0, a.1).distance(lin);
+                let db = DVec2::new(b.0, b.1).distance(lin);
+                da.total_cmp(&db)
+            })
+            .unwrap();
+        let (bw, bh) = (b.2, b.3);
+        assert!(
+            (bw - bh).abs() <= (0.1 * bh).max(1.0),
+            "a dot of radius {r} came out {bw}x{bh}: not round"
+        );
+        scales.push(bh / (2.0 * r as f64));
+        pairs.push(((x as f64, y as f64), (b.0, b.1)));
+    }
+    let (lo, hi) = scales
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), &s| (a.min(s), b.max(s)));
+    assert!(
+        hi - lo <= 0.15,
+        "one scale for one area's marks: {scales:?}"
+    );
+    // Centres on one axis-aligned map: fit x' = a x + b by least squares, residual small.
+    for axis in 0..2 {
+        let pts: Vec<(f64, f64)> = pairs
+            .iter()
+            .map(|&((x, y), (u, v))| if axis == 0 { (x, u) } else { (y, v) })
+            .collect();
+        let n = pts.len() as f64;
+        let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+        let (mx, my) = (sx / n, sy / n);
+        let cov: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let var: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        let a = cov / var;
+        let worst = pts
+            .iter()
+            .map(|p| (p.1 - (my + a * (p.0 - mx))).abs())
+            .fold(0.0f64, f64::max);
+        assert!(
+            worst <= 1.5,
+            "axis {axis}: a centre {worst:.2} px off the map"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Inside every data area the warp is one axis-aligned affine map: each vertex inside
+    /// (not a text block's, not on the canvas border) lies where the area's map takes it, to
+    /// the renderer's 1/4096-px grid, for random charts and targets.
+    #[test]
+    fn the_warp_is_affine_inside_every_data_area(
+        seed in 1u32..10_000,
+        tw in 120u32..900,
+        th in 120u32..600,
+    ) {
+        let radii: Vec<f32> = (0..12).map(|i| 3.0 + ((seed + i * 7) % 12) as f32).collect();
+        let (img, _) = scatter(seed, &radii);
+        let options = Options::default().with_analysis(true);
+        let out = retarget(&img, Size::new(tw, th).unwrap(), &options).unwrap();
+        let a = out.analysis.as_ref().unwrap();
+        let st = a.mesh.structure().unwrap();
+        prop_assert!(!st.areas.is_empty());
+        let maps = a.warp.area_maps(&a.mesh);
+        for (k, area) in st.areas.iter().enumerate() {
+            let [ax, bx, ay, by] = maps[k].expect("a map");
+            prop_assert!(ax > 0.0 && ay > 0.0);
+            for (i, p) in a.mesh.vertices().iter().enumerate() {
+                let role = a.mesh.roles()[i];
+                let b = a.mesh.boundary()[i];
+                if !area.contains(p.x, p.y, 0.0) || role.block.is_some() || b.fixes_x() || b.fixes_y() {
+                    continue;
+                }
+                let q = a.warp.positions()[i];
+                let grid = 1.0 / 4096.0;
+                prop_assert!((q.x - (ax * p.x + bx)).abs() <= grid, "x of {p:?}: {} vs {}", q.x, ax * p.x + bx);
+                prop_assert!((q.y - (ay * p.y + by)).abs() <= grid, "y of {p:?}: {} vs {}", q.y, ay * p.y + by);
+            }
+        }
+    }
+}
