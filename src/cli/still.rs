@@ -144,12 +144,13 @@ fn text_out_json(mesh: &vizretarget::mesh::Mesh, warp: &vizretarget::Warp) -> se
     boxes
         .iter()
         .enumerate()
-        .map(|(k, b)| match b {
-            _ if floated(k).is_some() => floated(k).unwrap_or_default(),
-            Some(b) if b[5] > b[4] => {
-                serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
-            }
-            _ => serde_json::Value::Null,
+        .map(|(k, b)| {
+            floated(k).unwrap_or_else(|| match b {
+                Some(b) if b[5] > b[4] => {
+                    serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
+                }
+                _ => serde_json::Value::Null,
+            })
         })
         .collect()
 }

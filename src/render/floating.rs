@@ -201,7 +201,7 @@ impl Floating {
                 continue;
             };
             let d = to - m.center;
-            if !d.x.is_finite() || !d.y.is_finite() || !(scale > 0.0 && scale.is_finite()) {
+            if !(d.x.is_finite() && d.y.is_finite() && scale > 0.0 && scale.is_finite()) {
                 continue;
             }
             let [bx0, by0, bx1, by1] = m.bbox;
