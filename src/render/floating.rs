@@ -106,26 +106,8 @@ pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Ma
                 let in_text = text.iter().any(|t| {
                     (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
                 });
-                // A mark on a line would carry the line's pixels along with it: it follows the
-                // map instead (as a linear resize would draw it).
-                let r = RIM_PX as f64;
-                let (fx0, fy0, fx1, fy1) = (
-                    bbox[0] as f64 - r,
-                    bbox[1] as f64 - r,
-                    bbox[2] as f64 + r,
-                    bbox[3] as f64 + r,
-                );
-                let on_line = st
-                    .horizontal
-                    .iter()
-                    .any(|l| l.pos >= fy0 && l.pos <= fy1 && l.from < fx1 && l.to > fx0)
-                    || st
-                        .vertical
-                        .iter()
-                        .any(|l| l.pos >= fx0 && l.pos <= fx1 && l.from < fy1 && l.to > fy0);
                 if touches
                     || in_text
-                    || on_line
                     || bw.max(bh) > max_side
                     || bw.max(bh) < 3.0
                     || fill > RECTANGLE_FILL
