@@ -108,23 +108,18 @@ fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
 fn text_out_json(mesh: &vizretarget::mesh::Mesh, warp: &vizretarget::Warp) -> serde_json::Value {
     let out = warp.positions();
     let maps = warp.area_maps(mesh);
+    let placed = mesh.structure().map_or(Vec::new(), |s| {
+        vizretarget::render::area_text_placements(s, &maps, warp.target())
+    });
     let floated = |k: usize| -> Option<serde_json::Value> {
-        let s = mesh.structure()?;
-        let b = s.text.get(k)?;
-        let (x0, y0, x1, y1) = (b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64);
-        let (i, area) = s.areas.iter().enumerate().find(|(_, a)| {
-            let ow = (x1.min(a.x1) - x0.max(a.x0)).max(0.0);
-            let oh = (y1.min(a.y1) - y0.max(a.y0)).max(0.0);
-            ow * oh >= 0.5 * (x1 - x0) * (y1 - y0)
-        })?;
-        let map = (*maps.get(i)?)?;
-        let sc = vizretarget::render::area_text_scale(map, area, b);
-        let (cx, cy) = (
-            map[0] * (x0 + x1) / 2.0 + map[1],
-            map[2] * (y0 + y1) / 2.0 + map[3],
+        let p = (*placed.get(k)?)?;
+        let b = mesh.structure()?.text.get(k)?;
+        let (hw, hh) = (
+            p.scale * (b.x1 - b.x0) as f64 / 2.0,
+            p.scale * (b.y1 - b.y0) as f64 / 2.0,
         );
-        let (hw, hh) = (sc * (x1 - x0) / 2.0, sc * (y1 - y0) / 2.0);
-        Some(serde_json::json!([cx - hw, cy - hh, cx + hw, cy + hh, sc]))
+        let (cx, cy) = (p.centre.x, p.centre.y);
+        Some(serde_json::json!([cx - hw, cy - hh, cx + hw, cy + hh, p.scale]))
     };
     let n = mesh.structure().map_or(0, |s| s.text.len());
     let mut boxes = vec![None::<[f64; 6]>; n];

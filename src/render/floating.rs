@@ -14,7 +14,7 @@ use super::fill::fill_from_surroundings;
 use crate::image::{Image, Size};
 use crate::mesh::Mark;
 use crate::saliency::Vsm;
-use crate::structure::{DataArea, TextBlock};
+use crate::structure::TextBlock;
 use glam::DVec2;
 
 /// Importance from which a pixel near a mark is part of it (the blob itself is found at 0.5;
@@ -32,16 +32,120 @@ const AREA_MARK_SHARE: f64 = 0.35;
 /// length is data read off the axis and must follow the area's map, not keep its shape.
 const RECTANGLE_FILL: f64 = 0.9;
 
-/// The scale a text block inside a data area is drawn at, given the area's map `[ax, bx, ay,
-/// by]`: its own size (text keeps its size), unless the area shrinks along both axes (then
-/// as the larger of the two, as a linear resize would), and never wider or taller than the
-/// area's output.
-pub fn area_text_scale(map: [f64; 4], area: &DataArea, block: &TextBlock) -> f64 {
-    let [ax, _, ay, _] = map;
-    let (bw, bh) = ((block.x1 - block.x0) as f64, (block.y1 - block.y0) as f64);
-    let room_x = ax * (area.x1 - area.x0) / bw.max(1.0);
-    let room_y = ay * (area.y1 - area.y0) / bh.max(1.0);
-    ax.max(ay).min(1.0).min(room_x).min(room_y).max(0.0)
+/// Least scale at which a text block inside a data area floats; below it, the block follows
+/// the area's map like the rest (a linear resize's squeeze), since smaller type than this
+/// reads worse than condensed type of full height.
+const MIN_TEXT_FLOAT: f64 = 0.7;
+/// Least gap between two floating text blocks, output pixels.
+const TEXT_GAP_PX: f64 = 2.0;
+/// Blocks whose left (right) edges lie within this of each other are one left-aligned
+/// (right-aligned) column: a legend's labels, a y axis' tick labels.
+const ALIGNED_PX: u32 = 2;
+
+/// Where a text block inside a data area is drawn over the warp: its output centre and scale.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct TextPlacement {
+    pub centre: DVec2,
+    pub scale: f64,
+}
+
+/// The placement of each text block that lies mostly inside a data area, given the areas'
+/// maps ([`crate::Warp::area_maps`]) and the output size: text keeps its size unless the area
+/// shrinks along both axes (then it takes the larger of the two scales, never more than 1);
+/// it is anchored where its column is aligned (a legend's labels by their left edge, a y
+/// axis' tick labels by their right edge, anything else by its centre), at the place the
+/// area's map takes that anchor; blocks that would overlap each other, or the other text as
+/// the map draws it, are made smaller together, and a block that would fall below
+/// [`MIN_TEXT_FLOAT`] is left to the map. Kept inside the output canvas.
+pub fn area_text_placements(
+    st: &crate::structure::Structure,
+    maps: &[Option<[f64; 4]>],
+    target: Size,
+) -> Vec<Option<TextPlacement>> {
+    let text = &st.text;
+    let area_of = |t: &TextBlock| {
+        st.areas.iter().position(|a| {
+            let ow = (t.x1 as f64).min(a.x1) - (t.x0 as f64).max(a.x0);
+            let oh = (t.y1 as f64).min(a.y1) - (t.y0 as f64).max(a.y0);
+            ow.max(0.0) * oh.max(0.0) >= 0.5 * ((t.x1 - t.x0) * (t.y1 - t.y0)) as f64
+        })
+    };
+    // Anchor along x: 0 left, 0.5 centre, 1 right.
+    let anchor = |i: usize| {
+        let t = &text[i];
+        let column = |edge: fn(&TextBlock) -> u32| {
+            text.iter().enumerate().any(|(j, o)| {
+                j != i && edge(o).abs_diff(edge(t)) <= ALIGNED_PX && (o.y0 >= t.y1 || o.y1 <= t.y0)
+            })
+        };
+        if column(|b| b.x0) {
+            0.0
+        } else if column(|b| b.x1) {
+            1.0
+        } else {
+            0.5
+        }
+    };
+    let (tw, th) = (target.width as f64, target.height as f64);
+    // Output box of block i at scale s (None: not in an area with a map).
+    let placed = |i: usize, s: f64| -> Option<[f64; 4]> {
+        let t = &text[i];
+        let [ax, bx, ay, by] = (*maps.get(area_of(t)?)?)?;
+        let (x0, x1, y0, y1) = (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64);
+        let k = anchor(i);
+        let ax_src = x0 + k * (x1 - x0);
+        let (w, h) = (s * (x1 - x0), s * (y1 - y0));
+        let left = (ax * ax_src + bx - k * w).clamp(0.0, (tw - w).max(0.0));
+        let top = (ay * (y0 + y1) / 2.0 + by - h / 2.0).clamp(0.0, (th - h).max(0.0));
+        Some([left, top, left + w, top + h])
+    };
+    let mut scale: Vec<Option<f64>> = (0..text.len())
+        .map(|i| {
+            let t = &text[i];
+            let [ax, _, ay, _] = (*maps.get(area_of(t)?)?)?;
+            Some(ax.max(ay).min(1.0))
+        })
+        .collect();
+    let overlap = |a: [f64; 4], b: [f64; 4]| {
+        a[0] < b[2] + TEXT_GAP_PX
+            && b[0] < a[2] + TEXT_GAP_PX
+            && a[1] < b[3] + TEXT_GAP_PX
+            && b[1] < a[3] + TEXT_GAP_PX
+    };
+    // Text outside the areas, as the warp draws it, is in the way too; blocks of an area
+    // without a map are left where they are.
+    for _ in 0..12 {
+        let boxes: Vec<Option<[f64; 4]>> = (0..text.len())
+            .map(|i| scale[i].and_then(|s| placed(i, s)))
+            .collect();
+        let mut shrink = vec![false; text.len()];
+        for i in 0..text.len() {
+            let Some(bi) = boxes[i] else { continue };
+            for j in 0..text.len() {
+                if i != j && boxes[j].is_some_and(|bj| overlap(bi, bj)) {
+                    shrink[i] = true;
+                }
+            }
+        }
+        if !shrink.contains(&true) {
+            break;
+        }
+        for (s, &k) in scale.iter_mut().zip(&shrink) {
+            if k {
+                *s = s.map(|v| v * 0.9);
+            }
+        }
+    }
+    (0..text.len())
+        .map(|i| {
+            let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
+            let b = placed(i, s)?;
+            Some(TextPlacement {
+                centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
+                scale: s,
+            })
+        })
+        .collect()
 }
 
 /// The marks inside data areas that float (drawn at one scale per area, centred where the

@@ -13,7 +13,7 @@ mod ripmap;
 mod sample;
 
 pub(crate) use fill::fill_from_surroundings;
-pub use floating::area_text_scale;
+pub use floating::{area_text_placements, TextPlacement};
 pub(crate) use floating::{area_marks, Floating, RIM_PX};
 
 use crate::image::{Image, ImageRef};

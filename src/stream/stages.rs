@@ -614,23 +614,19 @@ impl RenderStage {
 /// the area's map takes their centre).
 fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
     let mesh = &m.mesh;
-    // Marks inside data areas, then the text blocks that follow an area (drawn at their own
-    // size where the area's map takes their centre: [`crate::render::area_text_scale`]).
-    let mut in_areas: Vec<(Mark, usize, Option<usize>)> = Vec::new();
+    // Marks inside data areas (at the area's one scale, where its map takes their centre),
+    // then the text blocks inside areas ([`crate::render::area_text_placements`]).
+    let mut in_areas: Vec<(Mark, InArea)> = Vec::new();
+    let mut maps = Vec::new();
     if let Some(s) = mesh.structure().filter(|s| !s.areas.is_empty()) {
-        in_areas.extend(
-            crate::render::area_marks(vsm, s)
-                .into_iter()
-                .map(|(mk, k)| (mk, k, None)),
-        );
-        for (b, t) in s.text.iter().enumerate() {
-            let Some(k) = s.areas.iter().position(|a| {
-                let ow = (t.x1 as f64).min(a.x1) - (t.x0 as f64).max(a.x0);
-                let oh = (t.y1 as f64).min(a.y1) - (t.y0 as f64).max(a.y0);
-                ow.max(0.0) * oh.max(0.0) >= 0.5 * ((t.x1 - t.x0) * (t.y1 - t.y0)) as f64
-            }) else {
-                continue;
-            };
+        maps = warp.area_maps(mesh);
+        in_areas = crate::render::area_marks(vsm, s)
+            .into_iter()
+            .map(|(mk, k)| (mk, InArea::Mark(k)))
+            .collect();
+        let placements = crate::render::area_text_placements(s, &maps, warp.target());
+        for (t, p) in s.text.iter().zip(placements) {
+            let Some(p) = p else { continue };
             let (bw, bh) = ((t.x1 - t.x0) as f64, (t.y1 - t.y0) as f64);
             let mark = Mark {
                 center: DVec2::new((t.x0 + t.x1) as f64 / 2.0, (t.y0 + t.y1) as f64 / 2.0),
@@ -638,17 +634,12 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
                 bbox: [t.x0, t.y0, t.x1, t.y1],
                 pixels: (bw * bh) as u32,
             };
-            in_areas.push((mark, k, Some(b)));
+            in_areas.push((mark, InArea::Text(p)));
         }
     }
     if m.floating.is_empty() && in_areas.is_empty() {
         return Floating::default();
     }
-    let maps = if in_areas.is_empty() {
-        Vec::new()
-    } else {
-        warp.area_maps(mesh)
-    };
     // Stream marks inside an area float with the area's marks.
     let loose: Vec<Mark> = m
         .floating
@@ -656,13 +647,13 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
         .filter(|f| {
             !in_areas
                 .iter()
-                .any(|(a, _, _)| a.center.distance(f.center) < a.ring_radius)
+                .any(|(a, _)| a.center.distance(f.center) < a.ring_radius)
         })
         .copied()
         .collect();
     let n_loose = loose.len();
     let mut marks = loose;
-    marks.extend(in_areas.iter().map(|(mk, _, _)| *mk));
+    marks.extend(in_areas.iter().map(|(mk, _)| *mk));
     let locator = (n_loose > 0).then(|| WarpLocator::new(mesh, warp));
     Floating::new(src, vsm, &marks, warp.target(), |i, mk| {
         if i < n_loose {
@@ -671,22 +662,26 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
                 .map(mk.center)
                 .map(|p| (p, 1.0, crate::render::RIM_PX));
         }
-        let (_, k, block) = in_areas[i - n_loose];
-        let map = (*maps.get(k)?)?;
-        let [ax, bx, ay, by] = map;
-        let (scale, rim) = match (block, mesh.structure()) {
-            (Some(b), Some(s)) => (
-                crate::render::area_text_scale(map, &s.areas[k], &s.text[b]),
-                0,
-            ),
-            _ => ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX),
+        let k = match in_areas[i - n_loose].1 {
+            InArea::Mark(k) => k,
+            // Without a rim: a text block's box holds its glyphs whole.
+            InArea::Text(p) => return Some((p.centre, p.scale, 0)),
         };
+        let [ax, bx, ay, by] = (*maps.get(k)?)?;
+        let (scale, rim) = ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX);
         Some((
             DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by),
             scale,
             rim,
         ))
     })
+}
+
+/// What floats in a data area: a mark (of area `k`), or a text block, placed.
+#[derive(Copy, Clone)]
+enum InArea {
+    Mark(usize),
+    Text(crate::render::TextPlacement),
 }
 
 /// For each triangle of `mesh`: whether the previous mesh had it (the same three vertex ids)
