@@ -119,7 +119,13 @@ fn text_out_json(mesh: &vizretarget::mesh::Mesh, warp: &vizretarget::Warp) -> se
             p.scale * (b.y1 - b.y0) as f64 / 2.0,
         );
         let (cx, cy) = (p.centre.x, p.centre.y);
-        Some(serde_json::json!([cx - hw, cy - hh, cx + hw, cy + hh, p.scale]))
+        Some(serde_json::json!([
+            cx - hw,
+            cy - hh,
+            cx + hw,
+            cy + hh,
+            p.scale
+        ]))
     };
     let n = mesh.structure().map_or(0, |s| s.text.len());
     let mut boxes = vec![None::<[f64; 6]>; n];

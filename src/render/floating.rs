@@ -23,6 +23,86 @@ const RIM_IMPORTANCE: f32 = 0.25;
 /// Pixels beyond the blob's bounding box looked at for its rim.
 pub(crate) const RIM_PX: u32 = 2;
 
+/// Thin lines (grid lines, axes, frames) that run under a painted-out mark are drawn on
+/// through it first: the mark hid the line, so it was found as two pieces, one on each side
+/// (or as one piece it crosses). Each pixel row (column) of the line is interpolated across
+/// the gap between the line's pixels on either side, where most of the gap is masked. Without
+/// it the ground closes over the line, and a mark drawn smaller than it was leaves a notch in
+/// every grid line it sat on. Drawn pixels are cleared from `masked`.
+fn continue_lines(image: &mut Image, st: &crate::structure::Structure, masked: &mut [bool]) {
+    let (w, h) = (image.width() as usize, image.height() as usize);
+    for (horizontal, lines) in [(true, &st.horizontal), (false, &st.vertical)] {
+        let (len, across_len) = if horizontal { (w, h) } else { (h, w) };
+        let mut thin: Vec<&crate::structure::Line> = lines
+            .iter()
+            .filter(|l| (1..=3).contains(&l.width))
+            .collect();
+        thin.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.from.total_cmp(&b.from)));
+        // Stretches `(line, window, gap)` to bridge: the gap between collinear pieces (or a
+        // whole piece a mark crosses), looked for masked pixels within the window around it.
+        type Gap<'a> = (&'a crate::structure::Line, (usize, usize), (usize, usize));
+        let mut gaps: Vec<Gap> = Vec::new();
+        for (i, l) in thin.iter().enumerate() {
+            let (from, to) = (l.from.max(0.0) as usize, (l.to.ceil() as usize).min(len));
+            gaps.push((l, (from, to), (from, to)));
+            if let Some(n) = thin.get(i + 1) {
+                if n.pos == l.pos && n.width == l.width && n.from > l.to {
+                    let end = (n.to.ceil() as usize).min(len);
+                    let gap = ((l.to.ceil() as usize).min(len), (n.from as usize).min(len));
+                    gaps.push((l, (from, end), gap));
+                }
+            }
+        }
+        for (l, (from, to), (g0, g1)) in gaps {
+            if to < from + 3 || g1 <= g0 {
+                continue;
+            }
+            let first = (l.pos - l.width as f64 / 2.0).round().max(0.0) as usize;
+            for across in first..(first + l.width as usize).min(across_len) {
+                let at = |along: usize| {
+                    if horizontal {
+                        across * w + along
+                    } else {
+                        along * w + across
+                    }
+                };
+                // The masked stretch over the gap: from its first masked pixel back, and from
+                // its last one on, while masked.
+                let Some(mut a) = (g0..g1).find(|&i| masked[at(i)]) else {
+                    continue;
+                };
+                let mut b = (g0..g1).rev().find(|&i| masked[at(i)]).unwrap_or(a) + 1;
+                while a > from && masked[at(a - 1)] {
+                    a -= 1;
+                }
+                while b < to && masked[at(b)] {
+                    b += 1;
+                }
+                let n_masked = (a..b).filter(|&i| masked[at(i)]).count();
+                if a <= from || b >= to || 2 * n_masked < b - a {
+                    continue;
+                }
+                // Ends: the nearest line pixels outside the stretch, past the mark's rim.
+                let (e0, e1) = (
+                    a.saturating_sub(RIM_PX as usize + 1).max(from),
+                    (b + RIM_PX as usize).min(to - 1),
+                );
+                let (c0, c1) = (image.pixels()[at(e0)], image.pixels()[at(e1)]);
+                let n = (e1 - e0) as f32;
+                for along in e0 + 1..e1 {
+                    let t = (along - e0) as f32 / n;
+                    let mut c = [0u8; 4];
+                    for ch in 0..4 {
+                        c[ch] = (c0[ch] as f32 * (1.0 - t) + c1[ch] as f32 * t + 0.5) as u8;
+                    }
+                    image.pixels_mut()[at(along)] = c;
+                    masked[at(along)] = false;
+                }
+            }
+        }
+    }
+}
+
 /// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks).
 const AREA_MARK_IMPORTANCE: f32 = 0.5;
 /// Largest mark of a data area, as a share of the area's shorter side: a bubble may be
@@ -367,7 +447,12 @@ impl Floating {
 
     /// Fills the floating marks' pixels of `image` (the source) from their surroundings, so
     /// the warp shows the ground under them. `scratch` is a reusable buffer.
-    pub fn paint_out(&self, image: &mut Image, scratch: &mut Vec<bool>) {
+    pub fn paint_out(
+        &self,
+        image: &mut Image,
+        lines: Option<&crate::structure::Structure>,
+        scratch: &mut Vec<bool>,
+    ) {
         let w = image.width() as usize;
         scratch.clear();
         scratch.resize(image.pixels().len(), false);
@@ -381,7 +466,21 @@ impl Floating {
                 }
             }
         }
+        let Some(st) = lines else {
+            fill_from_surroundings(image, scratch, todo);
+            return;
+        };
+        // Ground first, then the lines through it (filled from lines, the ground would
+        // smudge grey around them).
+        let masked = todo.clone();
         fill_from_surroundings(image, scratch, todo);
+        for &i in &masked {
+            scratch[i as usize] = true;
+        }
+        continue_lines(image, st, scratch);
+        for &i in &masked {
+            scratch[i as usize] = false;
+        }
     }
 
     /// Copies the floating marks' pixels of `src` into `out`, each shifted by its offset

@@ -13,8 +13,8 @@ mod ripmap;
 mod sample;
 
 pub(crate) use fill::fill_from_surroundings;
-pub use floating::{area_text_placements, TextPlacement};
 pub(crate) use floating::{area_marks, Floating, RIM_PX};
+pub use floating::{area_text_placements, TextPlacement};
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;

@@ -533,7 +533,7 @@ impl RenderStage {
                 }
                 p => p.insert(src.clone()),
             };
-            floating.paint_out(painted, &mut self.scratch);
+            floating.paint_out(painted, mesh.structure(), &mut self.scratch);
             painted
         };
         let usable = self.prev.as_ref().filter(|p| {
