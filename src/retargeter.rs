@@ -197,6 +197,11 @@ pub struct FrameStats {
     pub decision: Decision,
     /// Tiles whose key points were re-sampled ([`Decision::Update`]).
     pub updated_tiles: usize,
+    /// Data areas found (one affine map each).
+    pub data_areas: usize,
+    /// Marks and text blocks drawn floating over the warp (a data area's, and a stream's
+    /// marks that the kept mesh does not ring).
+    pub floated: usize,
     /// Position in the stream.
     pub frame_index: u64,
 }
@@ -352,6 +357,7 @@ impl Retargeter {
                 region_tiles,
                 times,
                 marks,
+                floated: self.render.floated(),
             },
             self.options.keep_analysis,
         ))
@@ -369,6 +375,8 @@ pub(crate) struct FrameParts {
     pub times: StageTimes,
     /// The vector marks as placed and drawn.
     pub marks: Option<Arc<VectorLayer>>,
+    /// Marks and text blocks drawn floating over the warp.
+    pub floated: usize,
 }
 
 /// The output record of one frame.
@@ -382,6 +390,7 @@ pub(crate) fn finish(parts: FrameParts, keep_analysis: bool) -> Retargeted {
         region_tiles,
         times,
         marks,
+        floated,
     } = parts;
     let stats = FrameStats {
         vertices: mesh.vertices().len(),
@@ -396,6 +405,8 @@ pub(crate) fn finish(parts: FrameParts, keep_analysis: bool) -> Retargeted {
             0
         },
         frame_index: frame.frame_index,
+        data_areas: mesh.structure().map_or(0, |s| s.areas.len()),
+        floated,
     };
     let analysis = keep_analysis.then_some(Analysis {
         vsm,

@@ -163,7 +163,8 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
         "{}: {} -> {}: {} vertices, {} triangles, DOF {}, {} unknowns; \
          vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
          folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}; \
-         text blocks {} ({} held at their size), snapped to pixels {}{}",
+         text blocks {} ({} held at their size), snapped to pixels {}{}; \
+         data areas {}, floating marks and text {}",
         input.display(),
         from,
         out.image.size(),
@@ -193,5 +194,7 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
         } else {
             "; marks' fans not held rigid (they left folds)"
         },
+        s.data_areas,
+        s.floated,
     );
 }

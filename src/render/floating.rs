@@ -441,6 +441,10 @@ impl Floating {
         Floating { pastes }
     }
 
+    pub fn len(&self) -> usize {
+        self.pastes.len()
+    }
+
     pub fn is_empty(&self) -> bool {
         self.pastes.is_empty()
     }

@@ -300,6 +300,7 @@ impl Pipeline {
                                     region_tiles,
                                     times,
                                     marks,
+                                    floated: renderer.floated(),
                                 },
                                 keep,
                             ))

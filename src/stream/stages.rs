@@ -498,6 +498,8 @@ pub(crate) struct RenderStage {
     /// The source with floating marks painted out, and the mask buffer that paints them.
     painted: Option<Image>,
     scratch: Vec<bool>,
+    /// How many marks and text blocks the last frame drew floating.
+    floated: usize,
 }
 
 struct Previous {
@@ -509,6 +511,11 @@ struct Previous {
 }
 
 impl RenderStage {
+    /// How many marks and text blocks the last frame drew floating over the warp.
+    pub fn floated(&self) -> usize {
+        self.floated
+    }
+
     pub fn run(
         &mut self,
         src: &Image,
@@ -596,6 +603,7 @@ impl RenderStage {
             }
         };
         floating.paste(src, &mut out);
+        self.floated = floating.len();
         self.prev = Some(Previous {
             mesh: mesh.clone(),
             warp: warp.clone(),
