@@ -116,6 +116,8 @@ const RECTANGLE_FILL: f64 = 0.9;
 /// the area's map like the rest (a linear resize's squeeze), since smaller type than this
 /// reads worse than condensed type of full height.
 const MIN_TEXT_FLOAT: f64 = 0.7;
+/// Least width of a floating text block, in its heights.
+const MIN_WORD_ASPECT: f64 = 1.2;
 /// Least gap between two floating text blocks, output pixels.
 const TEXT_GAP_PX: f64 = 2.0;
 /// Blocks whose left (right) edges lie within this of each other are one left-aligned
@@ -182,6 +184,11 @@ pub fn area_text_placements(
     let mut scale: Vec<Option<f64>> = (0..text.len())
         .map(|i| {
             let t = &text[i];
+            // A word is wider than tall; a block as tall as wide inside a grid is as likely
+            // the crossing of two separators, and it follows the map whatever it is.
+            if ((t.x1 - t.x0) as f64) < MIN_WORD_ASPECT * (t.y1 - t.y0) as f64 {
+                return None;
+            }
             let [ax, _, ay, _] = (*maps.get(area_of(t)?)?)?;
             Some(ax.max(ay).min(1.0))
         })
