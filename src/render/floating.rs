@@ -103,11 +103,33 @@ fn continue_lines(image: &mut Image, st: &crate::structure::Structure, masked: &
     }
 }
 
+/// Which pixels around a floating mark go with it.
+#[derive(Copy, Clone, Debug)]
+pub(crate) enum MaskKind {
+    /// Salient pixels (a stream's marks).
+    Salient,
+    /// Salient pixels of the mark's colour (a data area's marks: a line through a marker
+    /// stays behind).
+    Colour([u8; 3]),
+    /// The whole box (a text block: its glyphs' antialiased edges too, or they would stay
+    /// behind as a ghost outline).
+    Whole,
+}
+
 /// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks).
 const AREA_MARK_IMPORTANCE: f32 = 0.5;
 /// Largest mark of a data area, as a share of the area's shorter side: a bubble may be
 /// large, but a blob spanning much of the plot is a region (an area fill, a band).
 const AREA_MARK_SHARE: f64 = 0.35;
+/// Most ratio of a round mark's bounding box sides.
+const MAX_MARK_ASPECT: f64 = 1.35;
+/// How far a round mark's ink's centre may lie from its box's centre, as a share of the box,
+/// and the least share of its box it fills (a disc π/4 ≈ 0.785, a 1-px ring of radius 20
+/// about 0.08: only a scatter of specks fills less); checked above marks of
+/// [`SMALL_MARK_CELLS`] map cells or fewer across, whose shape is mostly their rim.
+const MIN_MARK_FILL: f64 = 0.05;
+const MARK_CENTRED: f64 = 0.1;
+const SMALL_MARK_CELLS: f64 = 8.0;
 /// Share of its bounding box above which a blob is a rectangle: a bar or a cell, whose
 /// length is data read off the axis and must follow the area's map, not keep its shape.
 const RECTANGLE_FILL: f64 = 0.9;
@@ -239,7 +261,11 @@ pub fn area_text_placements(
 /// area's map takes their centre): blobs of high importance inside an area, clear of its
 /// sides (a bar standing on the axis is the axis' business) and of text, not rectangles,
 /// and smaller than [`AREA_MARK_SHARE`] of the area. Each with the index of its area.
-pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Mark, usize)> {
+pub(crate) fn area_marks(
+    src: &Image,
+    vsm: &Vsm,
+    st: &crate::structure::Structure,
+) -> Vec<(Mark, usize, [u8; 3])> {
     let (areas, text) = (&st.areas[..], &st.text[..]);
     let s = vsm.scale() as f64;
     let grid = vsm.grid_size();
@@ -261,13 +287,17 @@ pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Ma
                 if seen[start] || imp[start] < AREA_MARK_IMPORTANCE {
                     continue;
                 }
+                // One colour: a line chart's markers stand apart from the line through them.
+                let colour = cell_colour(src, s, start % gw, start / gw);
                 seen[start] = true;
                 stack.push(start);
                 let (mut x0, mut y0, mut x1, mut y1) = (c, r, c + 1, r + 1);
                 let mut cells = 0usize;
+                let (mut sum_x, mut sum_y) = (0.0f64, 0.0f64);
                 while let Some(i) = stack.pop() {
                     let (x, y) = (i % gw, i / gw);
                     cells += 1;
+                    (sum_x, sum_y) = (sum_x + x as f64 + 0.5, sum_y + y as f64 + 0.5);
                     (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
                     for (dx, dy) in [
                         (-1i64, 0i64),
@@ -284,7 +314,10 @@ pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Ma
                             continue;
                         }
                         let j = ny as usize * gw + nx as usize;
-                        if !seen[j] && imp[j] >= AREA_MARK_IMPORTANCE {
+                        if !seen[j]
+                            && imp[j] >= AREA_MARK_IMPORTANCE
+                            && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
+                        {
                             seen[j] = true;
                             stack.push(j);
                         }
@@ -297,8 +330,18 @@ pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Ma
                 let in_text = text.iter().any(|t| {
                     (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
                 });
+                // Round marks only (a disc, a ring, a symbol about as wide as tall, its ink
+                // centred in its box): a shape that is not may be anything (a group of cells,
+                // a piece of a map) and follows the map, as a linear resize would draw it.
+                let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
+                let (mx, my) = (sum_x / cells as f64, sum_y / cells as f64);
+                let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
+                    && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
+                let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
+                    && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred));
                 if touches
                     || in_text
+                    || !round
                     || bw.max(bh) > max_side
                     || bw.max(bh) < 3.0
                     || fill > RECTANGLE_FILL
@@ -317,11 +360,29 @@ pub(crate) fn area_marks(vsm: &Vsm, st: &crate::structure::Structure) -> Vec<(Ma
                         pixels: (cells as f64 * s * s) as u32,
                     },
                     k,
+                    colour,
                 ));
             }
         }
     }
     out
+}
+
+/// Colours this close (RGB distance) are one mark's: antialiasing and a marker's own shading
+/// stay in, a line of another colour through it stays out.
+const SAME_COLOUR: i32 = 60;
+
+fn same_colour(a: [u8; 3], b: [u8; 3]) -> bool {
+    let d: i32 = (0..3).map(|c| (a[c] as i32 - b[c] as i32).pow(2)).sum();
+    d < SAME_COLOUR * SAME_COLOUR
+}
+
+/// The source colour at the centre of VSM cell `(x, y)` (cells are `s` pixels wide).
+fn cell_colour(src: &Image, s: f64, x: usize, y: usize) -> [u8; 3] {
+    let px = ((x as f64 + 0.5) * s) as u32;
+    let py = ((y as f64 + 0.5) * s) as u32;
+    let p = src.get(px.min(src.width() - 1), py.min(src.height() - 1));
+    [p[0], p[1], p[2]]
 }
 
 /// One floating mark: its pixels in the source and the whole-pixel shift they are copied with.
@@ -362,7 +423,7 @@ impl Floating {
         vsm: &Vsm,
         marks: &[Mark],
         target: Size,
-        place: impl Fn(usize, &Mark) -> Option<(DVec2, f64, u32)>,
+        place: impl Fn(usize, &Mark) -> Option<(DVec2, f64, u32, MaskKind)>,
     ) -> Floating {
         let (w, h) = (src.width(), src.height());
         let s = vsm.scale();
@@ -370,7 +431,7 @@ impl Floating {
         let imp = vsm.importance();
         let mut pastes = Vec::with_capacity(marks.len());
         for (k, m) in marks.iter().enumerate() {
-            let Some((to, scale, rim)) = place(k, m) else {
+            let Some((to, scale, rim, colour)) = place(k, m) else {
                 continue;
             };
             let d = to - m.center;
@@ -391,7 +452,15 @@ impl Floating {
             let core: Vec<bool> = (0..rw * rh)
                 .map(|i| {
                     let (x, y) = (rect[0] + (i % rw) as u32, rect[1] + (i / rw) as u32);
-                    imp[(y / s) as usize * gw + (x / s) as usize] >= RIM_IMPORTANCE
+                    let salient = imp[(y / s) as usize * gw + (x / s) as usize] >= RIM_IMPORTANCE;
+                    match colour {
+                        MaskKind::Colour(c) => {
+                            let p = src.get(x, y);
+                            salient && same_colour([p[0], p[1], p[2]], c)
+                        }
+                        MaskKind::Salient => salient,
+                        MaskKind::Whole => true,
+                    }
                 })
                 .collect();
             let r2 = m.ring_radius * m.ring_radius;

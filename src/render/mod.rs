@@ -13,7 +13,7 @@ mod ripmap;
 mod sample;
 
 pub(crate) use fill::fill_from_surroundings;
-pub(crate) use floating::{area_marks, Floating, RIM_PX};
+pub(crate) use floating::{area_marks, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
 
 use crate::image::{Image, ImageRef};

@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::{find_marks, IncrementalMesh, Mark, Mesh, MeshOptions, TileMask};
 use crate::raster::snap;
-use crate::render::{Floating, Renderer};
+use crate::render::{Floating, MaskKind, Renderer};
 use crate::saliency::{Rect, Vsm, VsmBuilder, DILATION_RADIUS};
 use crate::solve::{EnergyParams, SalientFit, SolveStats, Solver, Warp};
 use crate::structure::Structure;
@@ -628,9 +628,9 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
     let mut maps = Vec::new();
     if let Some(s) = mesh.structure().filter(|s| !s.areas.is_empty()) {
         maps = warp.area_maps(mesh);
-        in_areas = crate::render::area_marks(vsm, s)
+        in_areas = crate::render::area_marks(src, vsm, s)
             .into_iter()
-            .map(|(mk, k)| (mk, InArea::Mark(k)))
+            .map(|(mk, k, c)| (mk, InArea::Mark(k, c)))
             .collect();
         let placements = crate::render::area_text_placements(s, &maps, warp.target());
         for (t, p) in s.text.iter().zip(placements) {
@@ -668,12 +668,12 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
             return locator
                 .as_ref()?
                 .map(mk.center)
-                .map(|p| (p, 1.0, crate::render::RIM_PX));
+                .map(|p| (p, 1.0, crate::render::RIM_PX, MaskKind::Salient));
         }
-        let k = match in_areas[i - n_loose].1 {
-            InArea::Mark(k) => k,
-            // Without a rim: a text block's box holds its glyphs whole.
-            InArea::Text(p) => return Some((p.centre, p.scale, 0)),
+        let (k, colour) = match in_areas[i - n_loose].1 {
+            InArea::Mark(k, c) => (k, c),
+            // A text block's box and a pixel around it: its glyphs with their edges.
+            InArea::Text(p) => return Some((p.centre, p.scale, 1, MaskKind::Whole)),
         };
         let [ax, bx, ay, by] = (*maps.get(k)?)?;
         let (scale, rim) = ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX);
@@ -681,14 +681,15 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
             DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by),
             scale,
             rim,
+            MaskKind::Colour(colour),
         ))
     })
 }
 
-/// What floats in a data area: a mark (of area `k`), or a text block, placed.
+/// What floats in a data area: a mark (of area `k`, of one colour), or a text block, placed.
 #[derive(Copy, Clone)]
 enum InArea {
-    Mark(usize),
+    Mark(usize, [u8; 3]),
     Text(crate::render::TextPlacement),
 }
 
