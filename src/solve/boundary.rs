@@ -494,24 +494,38 @@ impl Layout {
             let block = role.block.map(|k| k as usize);
             let area = members.of_vertex(p, role);
             l.on_area[i] = area.x.is_some() || area.y.is_some();
-            let map_x = |k: usize, x: f64| frozen[k].map(|m| m[0] * x + m[1]);
-            let map_y = |k: usize, y: f64| frozen[k].map(|m| m[2] * y + m[3]);
             let mut area_var = |k: usize, i: usize, fresh: &mut dyn FnMut() -> u32| -> u32 {
                 let key = (i as u8, members.groups[k][i]);
                 let v = *group_vars.entry(key).or_insert_with(fresh);
                 l.areas[k][i] = v;
                 v
             };
+            // Coordinate `pos` along `axis` (0 x, 1 y) of area `k`'s map (or of the last
+            // frame's, frozen); with `own = Some((s, d))`, plus a block's own scale `s` times
+            // `d`, its distance from its anchor.
+            let mut area_coord = |k: usize,
+                                  axis: usize,
+                                  pos: f64,
+                                  own: Option<(u32, f64)>,
+                                  fresh: &mut dyn FnMut() -> u32|
+             -> Coord {
+                match (frozen[k].map(|m| m[2 * axis] * pos + m[2 * axis + 1]), own) {
+                    (Some(c), None) => Coord::fixed(c),
+                    (Some(c), Some((s, d))) => Coord::affine(c, (s, d), (FIXED, 0.0)),
+                    (None, own) => {
+                        let b = area_var(k, 2 * axis + 1, fresh);
+                        let a = area_var(k, 2 * axis, fresh);
+                        match own {
+                            None => Coord::affine(0.0, (b, 1.0), (a, pos)),
+                            Some((s, d)) => Coord::affine3(0.0, (b, 1.0), (a, pos), (s, d)),
+                        }
+                    }
+                }
+            };
             let x = if b.fixes_x() {
                 Coord::fixed(if p.x >= w { tw } else { 0.0 })
             } else if let Some(k) = area.x {
-                match map_x(k, p.x) {
-                    Some(x) => Coord::fixed(x),
-                    None => {
-                        let (bx, ax) = (area_var(k, 1, &mut fresh), area_var(k, 0, &mut fresh));
-                        Coord::affine(0.0, (bx, 1.0), (ax, p.x))
-                    }
-                }
+                area_coord(k, 0, p.x, None, &mut fresh)
             } else if let Some(k) = block {
                 if l.blocks[k][2] == FIXED {
                     l.blocks[k] = match attached.get(k).copied().flatten() {
@@ -533,21 +547,10 @@ impl Layout {
                 }
                 let bl = l.blocks[k];
                 match attached.get(k).copied().flatten() {
-                    Some(at) if at.along_x => match map_x(at.area, at.centre) {
-                        Some(c) => Coord::affine(c, (bl[2], p.x - at.centre), (FIXED, 0.0)),
-                        None => {
-                            let (bx, ax) = (
-                                area_var(at.area, 1, &mut fresh),
-                                area_var(at.area, 0, &mut fresh),
-                            );
-                            Coord::affine3(
-                                0.0,
-                                (bx, 1.0),
-                                (ax, at.centre),
-                                (bl[2], p.x - at.centre),
-                            )
-                        }
-                    },
+                    Some(at) if at.along_x => {
+                        let own = Some((bl[2], p.x - at.centre));
+                        area_coord(at.area, 0, at.centre, own, &mut fresh)
+                    }
                     _ => Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x)),
                 }
             } else if let Some(k) = role.vline {
@@ -561,31 +564,14 @@ impl Layout {
             let y = if b.fixes_y() {
                 Coord::fixed(if p.y >= h { th } else { 0.0 })
             } else if let Some(k) = area.y {
-                match map_y(k, p.y) {
-                    Some(y) => Coord::fixed(y),
-                    None => {
-                        let (by, ay) = (area_var(k, 3, &mut fresh), area_var(k, 2, &mut fresh));
-                        Coord::affine(0.0, (by, 1.0), (ay, p.y))
-                    }
-                }
+                area_coord(k, 1, p.y, None, &mut fresh)
             } else if let Some(k) = block {
                 let bl = l.blocks[k];
                 match attached.get(k).copied().flatten() {
-                    Some(at) if !at.along_x => match map_y(at.area, at.centre) {
-                        Some(c) => Coord::affine(c, (bl[2], p.y - at.centre), (FIXED, 0.0)),
-                        None => {
-                            let (by, ay) = (
-                                area_var(at.area, 3, &mut fresh),
-                                area_var(at.area, 2, &mut fresh),
-                            );
-                            Coord::affine3(
-                                0.0,
-                                (by, 1.0),
-                                (ay, at.centre),
-                                (bl[2], p.y - at.centre),
-                            )
-                        }
-                    },
+                    Some(at) if !at.along_x => {
+                        let own = Some((bl[2], p.y - at.centre));
+                        area_coord(at.area, 1, at.centre, own, &mut fresh)
+                    }
                     _ => Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y)),
                 }
             } else if let Some(k) = role.hline {
