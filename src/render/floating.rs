@@ -158,8 +158,8 @@ pub struct TextPlacement {
 /// shrinks along both axes (then it takes the larger of the two scales, never more than 1);
 /// it is anchored where its column is aligned (a legend's labels by their left edge, a y
 /// axis' tick labels by their right edge, anything else by its centre), at the place the
-/// area's map takes that anchor; blocks that would overlap each other, or the other text as
-/// the map draws it, are made smaller together, and a block that would fall below
+/// area's map takes that anchor; floating blocks that would overlap each other are made
+/// smaller together, and a block that would fall below
 /// [`MIN_TEXT_FLOAT`] is left to the map. Kept inside the output canvas.
 pub fn area_text_placements(
     st: &crate::structure::Structure,
@@ -221,21 +221,22 @@ pub fn area_text_placements(
             && a[1] < b[3] + TEXT_GAP_PX
             && b[1] < a[3] + TEXT_GAP_PX
     };
-    // Text outside the areas, as the warp draws it, is in the way too; blocks of an area
-    // without a map are left where they are.
     for _ in 0..12 {
         let boxes: Vec<Option<[f64; 4]>> = (0..text.len())
             .map(|i| scale[i].and_then(|s| placed(i, s)))
             .collect();
-        let mut shrink = vec![false; text.len()];
-        for i in 0..text.len() {
-            let Some(bi) = boxes[i] else { continue };
-            for j in 0..text.len() {
-                if i != j && boxes[j].is_some_and(|bj| overlap(bi, bj)) {
-                    shrink[i] = true;
-                }
-            }
-        }
+        let shrink: Vec<bool> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, bi)| {
+                bi.is_some_and(|bi| {
+                    boxes
+                        .iter()
+                        .enumerate()
+                        .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
+                })
+            })
+            .collect();
         if !shrink.contains(&true) {
             break;
         }
