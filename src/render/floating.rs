@@ -167,13 +167,7 @@ pub fn area_text_placements(
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
     let text = &st.text;
-    let area_of = |t: &TextBlock| {
-        st.areas.iter().position(|a| {
-            let ow = (t.x1 as f64).min(a.x1) - (t.x0 as f64).max(a.x0);
-            let oh = (t.y1 as f64).min(a.y1) - (t.y0 as f64).max(a.y0);
-            ow.max(0.0) * oh.max(0.0) >= 0.5 * ((t.x1 - t.x0) * (t.y1 - t.y0)) as f64
-        })
-    };
+    let area_of = |t: &TextBlock| st.area_of(t);
     // Anchor along x: 0 left, 0.5 centre, 1 right.
     let anchor = |i: usize| {
         let t = &text[i];

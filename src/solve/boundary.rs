@@ -306,19 +306,9 @@ impl AreaMembers {
                 ]
             })
             .collect();
-        // Mostly inside: at least half of a block's box, half of a line's length.
-        let inside_box = |x0: f64, y0: f64, x1: f64, y1: f64| {
-            areas.iter().position(|a| {
-                let ow = (x1.min(a.x1) - x0.max(a.x0)).max(0.0);
-                let oh = (y1.min(a.y1) - y0.max(a.y0)).max(0.0);
-                ow * oh >= 0.5 * (x1 - x0) * (y1 - y0)
-            })
-        };
-        let blocks = s
-            .text
-            .iter()
-            .map(|b| inside_box(b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64))
-            .collect();
+        // Mostly inside: at least half of a block's box (`Structure::area_of`), half of a
+        // line's length.
+        let blocks = s.text.iter().map(|b| s.area_of(b)).collect();
         let line_in = |l: &crate::structure::Line, horizontal: bool| {
             areas.iter().position(|a| {
                 let (p0, p1, s0, s1) = if horizontal {

@@ -106,6 +106,17 @@ impl Structure {
         s
     }
 
+    /// The data area text block `b` lies mostly inside (half of its box or more), if any: the
+    /// block follows that area (one definition for the layout and for what floats).
+    pub fn area_of(&self, b: &TextBlock) -> Option<usize> {
+        let (x0, y0, x1, y1) = (b.x0 as f64, b.y0 as f64, b.x1 as f64, b.y1 as f64);
+        self.areas.iter().position(|a| {
+            let ow = (x1.min(a.x1) - x0.max(a.x0)).max(0.0);
+            let oh = (y1.min(a.y1) - y0.max(a.y0)).max(0.0);
+            ow * oh >= 0.5 * (x1 - x0) * (y1 - y0)
+        })
+    }
+
     /// Nothing found.
     pub fn is_empty(&self) -> bool {
         self.horizontal.is_empty()
