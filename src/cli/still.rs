@@ -79,7 +79,7 @@ fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Resu
     }
     let path = dir.join("structure.json");
     let mut json = structure_json(&structure);
-    json["text_out"] = text_out_json(&a.mesh, &a.warp);
+    json["text_out"] = text_out_json(input, &a.mesh, &a.warp);
     std::fs::write(&path, json.to_string())
         .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
@@ -105,11 +105,15 @@ fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
 /// its vertices and its width's scale (a block keeps one scale), or null for a block without
 /// vertices of its own. A block inside a data area is drawn over the area's map at its own
 /// scale, centred where the map takes its centre.
-fn text_out_json(mesh: &vizretarget::mesh::Mesh, warp: &vizretarget::Warp) -> serde_json::Value {
+fn text_out_json(
+    input: &vizretarget::Image,
+    mesh: &vizretarget::mesh::Mesh,
+    warp: &vizretarget::Warp,
+) -> serde_json::Value {
     let out = warp.positions();
     let maps = warp.area_maps(mesh);
     let placed = mesh.structure().map_or(Vec::new(), |s| {
-        vizretarget::render::area_text_placements(s, &maps, warp.target())
+        vizretarget::render::area_text_placements(input, s, &maps, warp.target())
     });
     let floated = |k: usize| -> Option<serde_json::Value> {
         let p = (*placed.get(k)?)?;

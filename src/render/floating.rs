@@ -162,11 +162,13 @@ pub struct TextPlacement {
 /// smaller together, and a block that would fall below
 /// [`MIN_TEXT_FLOAT`] is left to the map. Kept inside the output canvas.
 pub fn area_text_placements(
+    src: &Image,
     st: &crate::structure::Structure,
     maps: &[Option<[f64; 4]>],
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
     let text = &st.text;
+    let ground: Vec<[u8; 3]> = text.iter().map(|t| box_ground(src, t)).collect();
     let area_of = |t: &TextBlock| st.area_of(t);
     // Anchor along x: 0 left, 0.5 centre, 1 right.
     let anchor = |i: usize| {
@@ -228,6 +230,7 @@ pub fn area_text_placements(
                         .iter()
                         .enumerate()
                         .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
+                        || covers_ink(src, &text[i], ground[i], bi, maps, area_of(&text[i]))
                 })
             })
             .collect();
@@ -240,6 +243,7 @@ pub fn area_text_placements(
             }
         }
     }
+    share_scale_along_columns_and_rows(text, &area_of, &mut scale);
     (0..text.len())
         .map(|i| {
             let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
@@ -250,6 +254,131 @@ pub fn area_text_placements(
             })
         })
         .collect()
+}
+
+/// Line heights this close (as a share of the larger) are one size of type.
+const SAME_TYPE_SIZE: f64 = 0.25;
+
+/// Labels read together keep one size: the blocks of one aligned column (a legend, a y axis'
+/// ticks) or one row (an x axis' ticks) of the same type size in the same area all take the
+/// smallest scale any of them could float at, since labels of two sizes in one legend read as
+/// two kinds of thing. Shrinking a block about its anchor keeps it inside the box it had, so
+/// no new overlap appears.
+fn share_scale_along_columns_and_rows(
+    text: &[TextBlock],
+    area_of: &impl Fn(&TextBlock) -> Option<usize>,
+    scale: &mut [Option<f64>],
+) {
+    let n = text.len();
+    let mut group: Vec<usize> = (0..n).collect();
+    fn root(g: &mut [usize], mut i: usize) -> usize {
+        while g[i] != i {
+            g[i] = g[g[i]];
+            i = g[i];
+        }
+        i
+    }
+    let near = |a: u32, b: u32| a.abs_diff(b) <= ALIGNED_PX;
+    for i in 0..n {
+        for j in i + 1..n {
+            let (a, b) = (&text[i], &text[j]);
+            if scale[i].is_none() || scale[j].is_none() || area_of(a) != area_of(b) {
+                continue;
+            }
+            let (ha, hb) = (a.line_height as f64, b.line_height as f64);
+            if (ha - hb).abs() > SAME_TYPE_SIZE * ha.max(hb) {
+                continue;
+            }
+            let apart_y = a.y0 >= b.y1 || a.y1 <= b.y0;
+            let apart_x = a.x0 >= b.x1 || a.x1 <= b.x0;
+            let column = apart_y && (near(a.x0, b.x0) || near(a.x1, b.x1));
+            let row = apart_x && near(a.y0, b.y0) && near(a.y1, b.y1);
+            if column || row {
+                let (ri, rj) = (root(&mut group, i), root(&mut group, j));
+                group[ri] = rj;
+            }
+        }
+    }
+    let mut least = vec![f64::INFINITY; n];
+    for i in 0..n {
+        if let Some(s) = scale[i] {
+            let r = root(&mut group, i);
+            least[r] = least[r].min(s);
+        }
+    }
+    for i in 0..n {
+        if scale[i].is_some() {
+            scale[i] = Some(least[root(&mut group, i)]);
+        }
+    }
+}
+
+/// Share of the pixels a floating text block newly covers (beyond its own box) that may be
+/// ink: a stray antialiased pixel, not a bar's end or a neighbouring cell.
+const MAX_COVERED_INK: f64 = 0.01;
+
+/// The colour of the ground a text block stands on: the most common colour of the ring of
+/// pixels just inside its box (glyphs rarely touch their box on all four sides).
+fn box_ground(src: &Image, t: &TextBlock) -> [u8; 3] {
+    let (w, h) = (src.width(), src.height());
+    let (x0, y0) = (t.x0.min(w - 1), t.y0.min(h - 1));
+    let (x1, y1) = (t.x1.clamp(x0 + 1, w) - 1, t.y1.clamp(y0 + 1, h) - 1);
+    let mut counts: Vec<([u8; 3], u32)> = Vec::new();
+    let ring = (x0..=x1)
+        .flat_map(|x| [(x, y0), (x, y1)])
+        .chain((y0..=y1).flat_map(|y| [(x0, y), (x1, y)]));
+    for (x, y) in ring {
+        let p = src.get(x, y);
+        let c = [p[0], p[1], p[2]];
+        match counts.iter_mut().find(|(k, _)| same_colour(*k, c)) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((c, 1)),
+        }
+    }
+    counts
+        .into_iter()
+        .max_by_key(|&(_, n)| n)
+        .map_or([255; 3], |(c, _)| c)
+}
+
+/// Whether text block `t`, drawn over the output box `b` (its whole box, ground and all),
+/// would hide ink that is not its own: the source under `b` by its area's map, outside the
+/// block's own box, is not all of the block's ground colour. A label may grow into empty
+/// ground, never over a bar, a cell or its neighbour.
+fn covers_ink(
+    src: &Image,
+    t: &TextBlock,
+    ground: [u8; 3],
+    b: [f64; 4],
+    maps: &[Option<[f64; 4]>],
+    area: Option<usize>,
+) -> bool {
+    let Some([ax, bx, ay, by]) = area.and_then(|k| *maps.get(k)?) else {
+        return false;
+    };
+    if ax <= 0.0 || ay <= 0.0 {
+        return false;
+    }
+    let (w, h) = (src.width() as f64, src.height() as f64);
+    let sx0 = ((b[0] - bx) / ax).floor().clamp(0.0, w) as u32;
+    let sx1 = ((b[2] - bx) / ax).ceil().clamp(0.0, w) as u32;
+    let sy0 = ((b[1] - by) / ay).floor().clamp(0.0, h) as u32;
+    let sy1 = ((b[3] - by) / ay).ceil().clamp(0.0, h) as u32;
+    let own = |x: u32, y: u32| x + 1 >= t.x0 && x <= t.x1 && y + 1 >= t.y0 && y <= t.y1;
+    let (mut ink, mut all) = (0u32, 0u32);
+    for y in sy0..sy1 {
+        for x in sx0..sx1 {
+            if own(x, y) {
+                continue;
+            }
+            all += 1;
+            let p = src.get(x, y);
+            if !same_colour([p[0], p[1], p[2]], ground) {
+                ink += 1;
+            }
+        }
+    }
+    ink as f64 > MAX_COVERED_INK * all.max(1) as f64
 }
 
 /// The marks inside data areas that float (drawn at one scale per area, centred where the
@@ -678,5 +807,94 @@ impl Paste {
                     self.rect[0] as usize + i % rw,
                 )
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::structure::{AreaKind, DataArea, Structure};
+
+    const INK: [u8; 4] = [0, 0, 0, 255];
+
+    /// A white canvas with the given text blocks inked (a glyph-like stripe each) and `bars`
+    /// filled, all inside one canvas-wide area.
+    fn chart(blocks: &[[u32; 4]], bars: &[[u32; 4]]) -> (Image, Structure) {
+        let mut img = Image::filled(Size::new(200, 100).unwrap(), [255; 4]);
+        for &[x0, y0, x1, y1] in blocks {
+            for y in y0 + 2..y1 - 2 {
+                for x in (x0 + 1..x1 - 1).step_by(3) {
+                    img.set(x, y, INK);
+                }
+            }
+        }
+        for &[x0, y0, x1, y1] in bars {
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    img.set(x, y, [200, 30, 30, 255]);
+                }
+            }
+        }
+        let st = Structure {
+            text: blocks
+                .iter()
+                .map(|&[x0, y0, x1, y1]| TextBlock {
+                    x0,
+                    y0,
+                    x1,
+                    y1,
+                    line_height: y1 - y0,
+                })
+                .collect(),
+            areas: vec![DataArea {
+                x0: 1.0,
+                y0: 1.0,
+                x1: 199.0,
+                y1: 99.0,
+                kind: AreaKind::Canvas,
+            }],
+            ..Structure::default()
+        };
+        (img, st)
+    }
+
+    /// Half width: the canvas' map is x' = x / 2, y' = y.
+    const HALF_WIDTH: [f64; 4] = [0.5, 0.0, 1.0, 0.0];
+
+    #[test]
+    fn a_label_grows_into_empty_ground_only() {
+        let target = Size::new(100, 100).unwrap();
+        let label = [60, 40, 100, 50];
+        let (img, st) = chart(&[label], &[]);
+        let free = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        assert_eq!(
+            free[0].map(|p| p.scale),
+            Some(1.0),
+            "room around it: own size"
+        );
+
+        // A bar just left of the label: at its own size the label's box would cover it.
+        let (img, st) = chart(&[label], &[[40, 38, 56, 52]]);
+        let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        if let Some(p) = p[0] {
+            assert!(p.scale < 1.0);
+            let left = p.centre.x - p.scale * 20.0;
+            assert!(left >= 0.5 * 56.0 - 0.5, "covers the bar: left edge {left}");
+        }
+    }
+
+    #[test]
+    fn a_legend_keeps_one_type_size() {
+        let target = Size::new(100, 100).unwrap();
+        // Three left-aligned labels; a bar right of the widest leaves it less room.
+        let blocks = [[100, 10, 150, 20], [100, 30, 130, 40], [100, 50, 140, 60]];
+        let (img, st) = chart(&blocks, &[[176, 8, 184, 22]]);
+        let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        let scales: Vec<Option<f64>> = p.iter().map(|p| p.map(|p| p.scale)).collect();
+        assert!(
+            scales.iter().all(|s| *s == scales[0]),
+            "one legend, scales {scales:?}"
+        );
+        assert!(scales[0].is_some_and(|s| s < 1.0), "scales {scales:?}");
     }
 }

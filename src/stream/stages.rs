@@ -632,7 +632,7 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
             .into_iter()
             .map(|(mk, k, c)| (mk, InArea::Mark(k, c)))
             .collect();
-        let placements = crate::render::area_text_placements(s, &maps, warp.target());
+        let placements = crate::render::area_text_placements(src, s, &maps, warp.target());
         for (t, p) in s.text.iter().zip(placements) {
             let Some(p) = p else { continue };
             let (bw, bh) = ((t.x1 - t.x0) as f64, (t.y1 - t.y0) as f64);
