@@ -300,15 +300,15 @@ fn share_scale_along_columns_and_rows(
         }
     }
     let mut least = vec![f64::INFINITY; n];
-    for i in 0..n {
-        if let Some(s) = scale[i] {
+    for (i, s) in scale.iter().enumerate() {
+        if let Some(s) = *s {
             let r = root(&mut group, i);
             least[r] = least[r].min(s);
         }
     }
-    for i in 0..n {
-        if scale[i].is_some() {
-            scale[i] = Some(least[root(&mut group, i)]);
+    for (i, s) in scale.iter_mut().enumerate() {
+        if s.is_some() {
+            *s = Some(least[root(&mut group, i)]);
         }
     }
 }
