@@ -32,8 +32,8 @@ pub struct Options {
     /// Detect lines and text and keep them straight and rigid (on by default; off gives the
     /// paper's method alone).
     pub structure: bool,
-    /// Which regions are data areas, warped by one axis-aligned affine map each (found by
-    /// default; needs [`Options::structure`]).
+    /// Which regions are data areas, warped by one axis-aligned affine map each (by default
+    /// the whole canvas; needs [`Options::structure`]).
     pub regions: crate::structure::Regions,
     /// Vector marks for every frame that brings none of its own ([`Frame::marks`]): bound to
     /// the mesh and redrawn over the warped raster (§5.3, see [`crate::vector`]).
@@ -52,7 +52,7 @@ impl Default for Options {
             keep_analysis: false,
             reuse: ReuseOptions::default(),
             structure: true,
-            regions: crate::structure::Regions::Auto,
+            regions: crate::structure::Regions::default(),
             marks: None,
             vector: VectorOptions::default(),
             enhance: Enhancement::default(),
@@ -65,6 +65,21 @@ impl Options {
     pub fn with_regions(mut self, regions: crate::structure::Regions) -> Options {
         self.regions = regions;
         self
+    }
+
+    /// The regions used: [`Options::regions`], except that content enhancement and vector
+    /// marks, which grow or hold marks against their surroundings, ask for the mesh where the
+    /// canvas would otherwise be one affine map (under which nothing can grow):
+    /// [`Regions::Affine`] with either becomes [`Regions::Auto`].
+    ///
+    /// [`Regions::Affine`]: crate::structure::Regions::Affine
+    /// [`Regions::Auto`]: crate::structure::Regions::Auto
+    pub fn effective_regions(&self) -> crate::structure::Regions {
+        use crate::structure::Regions;
+        match self.regions {
+            Regions::Affine if !self.enhance.is_identity() || self.marks.is_some() => Regions::Auto,
+            r => r,
+        }
     }
 
     /// Sets `α`.
@@ -261,7 +276,7 @@ impl Retargeter {
             mesh: MeshStage::new(
                 MeshOptions {
                     alpha: options.alpha,
-                    regions: options.regions,
+                    regions: options.effective_regions(),
                 },
                 options.reuse.clone(),
                 options.structure,

@@ -4,7 +4,7 @@
 use vizretarget::baseline::Mapping;
 use vizretarget::compare::{compare, compare_methods, sheet, text_width, SheetOptions};
 use vizretarget::metrics::{measure, MetricsTable};
-use vizretarget::{retarget_with, Image, Method, Options, Size};
+use vizretarget::{retarget_with, Image, Method, Options, Regions, Size};
 
 const WHITE: [u8; 4] = [255, 255, 255, 255];
 const RED: [u8; 4] = [215, 25, 28, 255];
@@ -131,7 +131,7 @@ fn mesh_beats_linear_on_a_scatter() {
     let c = compare_methods(
         &img,
         size(240, 240),
-        &Options::default(),
+        &Options::default().with_regions(Regions::Auto),
         &[Method::Mesh, Method::Linear, Method::Grid],
     )
     .unwrap();
@@ -166,7 +166,7 @@ fn mesh_grows_marks_round_when_the_canvas_grows() {
     let c = compare_methods(
         &img,
         size(380, 160),
-        &Options::default(),
+        &Options::default().with_regions(Regions::Auto),
         &[Method::Mesh, Method::Linear],
     )
     .unwrap();

@@ -2,7 +2,7 @@
 //! the same frames as the sequential core.
 
 use vizretarget::stream::{NoProgress, VecSink, VecSource};
-use vizretarget::{Decision, Frame, Image, Options, Pipeline, Renderer, Retargeter, Size};
+use vizretarget::{Decision, Frame, Image, Options, Pipeline, Regions, Renderer, Retargeter, Size};
 
 /// A light map-like background with dots; dots `movers` shift by `step` px per frame.
 fn scene(size: Size, frame: u32, movers: usize) -> Image {
@@ -150,7 +150,11 @@ fn moving_marks_float_over_the_kept_warp() {
     let size = Size::new(320, 200).unwrap();
     let target = Size::new(160, 200).unwrap();
     let frames: Vec<Image> = (0..12).map(|f| scene(size, f, 2)).collect();
-    let out = run_sequential(&frames, target, &Options::default());
+    let out = run_sequential(
+        &frames,
+        target,
+        &Options::default().with_regions(Regions::Auto),
+    );
     assert_eq!(out[0].stats.decision, Decision::Rebuild);
     // Until frame 9 the movers run free; then one runs into a cluster of dots and the group
     // grows too big to be a mark, which is a change of regions: a local update, not a rebuild.

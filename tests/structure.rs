@@ -243,7 +243,9 @@ fn legend_before_and_after(
 ) -> (Vec<TextBlock>, Vec<TextBlock>) {
     let source = legend_entries(img, x_min[0], y_min);
     assert_eq!(source.len(), 3, "{source:?}");
-    let out = retarget(img, target, &Options::default()).unwrap().image;
+    let out = retarget(img, target, &Options::default().with_regions(Regions::Auto))
+        .unwrap()
+        .image;
     let kept = legend_entries(&out, x_min[1], y_min);
     assert_eq!(kept.len(), 3, "{kept:?}");
     (source, kept)
@@ -634,9 +636,13 @@ fn hollow_marks_stay_round() {
             }
         }
     }
-    let out = retarget(&img, Size::new(300, 300).unwrap(), &Options::default())
-        .unwrap()
-        .image;
+    let out = retarget(
+        &img,
+        Size::new(300, 300).unwrap(),
+        &Options::default().with_regions(Regions::Auto),
+    )
+    .unwrap()
+    .image;
     // Each ring's bounding box, from the columns and rows holding its colour, ring by ring
     // (they lie in separate 35-px wide strips of the output at half width).
     let is_ring = |x: u32, y: u32| {

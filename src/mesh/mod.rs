@@ -80,7 +80,7 @@ impl Default for MeshOptions {
     fn default() -> Self {
         MeshOptions {
             alpha: 20.0,
-            regions: crate::structure::Regions::Auto,
+            regions: crate::structure::Regions::default(),
         }
     }
 }

@@ -210,7 +210,7 @@ impl Pipeline {
             let mut mesher = MeshStage::new(
                 MeshOptions {
                     alpha: options.alpha,
-                    regions: options.regions,
+                    regions: options.effective_regions(),
                 },
                 options.reuse.clone(),
                 options.structure,
