@@ -192,6 +192,18 @@ fn blobs(img: &Image) -> Vec<(f64, f64, f64, f64)> {
     out
 }
 
+/// The blob whose centre lies nearest `p`.
+fn nearest(found: &[(f64, f64, f64, f64)], p: DVec2) -> (f64, f64, f64, f64) {
+    *found
+        .iter()
+        .min_by(|a, b| {
+            let da = DVec2::new(a.0, a.1).distance(p);
+            let db = DVec2::new(b.0, b.1).distance(p);
+            da.total_cmp(&db)
+        })
+        .unwrap()
+}
+
 /// With data areas found (`--regions auto`), bubbles of an area come out round, all at one
 /// scale (sizes keep their proportions), and where the area's one affine map takes their
 /// centres (positions read off the axes stay true).
@@ -209,14 +221,7 @@ fn floating_marks_of_one_area_share_one_scale_and_sit_on_the_map() {
     let mut pairs = Vec::new();
     for &(x, y, r) in &dots {
         let lin = DVec2::new(x as f64 * 0.5, y as f64);
-        let b = found
-            .iter()
-            .min_by(|a, b| {
-                let da = DVec2::new(a.0, a.1).distance(lin);
-                let db = DVec2::new(b.0, b.1).distance(lin);
-                da.total_cmp(&db)
-            })
-            .unwrap();
+        let b = nearest(&found, lin);
         let (bw, bh) = (b.2, b.3);
         assert!(
             (bw - bh).abs() <= (0.1 * bh).max(1.0),
@@ -306,14 +311,7 @@ fn the_default_keeps_every_position_and_size_proportional() {
     assert_eq!(found.len(), dots.len(), "{found:?}");
     for &(x, y, r) in &dots {
         let lin = DVec2::new(x as f64 * 0.5, y as f64);
-        let b = found
-            .iter()
-            .min_by(|a, b| {
-                let da = DVec2::new(a.0, a.1).distance(lin);
-                let db = DVec2::new(b.0, b.1).distance(lin);
-                da.total_cmp(&db)
-            })
-            .unwrap();
+        let b = nearest(&found, lin);
         assert!(
             DVec2::new(b.0, b.1).distance(lin) <= 1.0,
             "dot at ({x}, {y}) came out at ({}, {})",

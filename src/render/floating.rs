@@ -142,6 +142,9 @@ const MIN_TEXT_FLOAT: f64 = 0.7;
 /// to float: the ground of a title or a legend is flat, a label over a map or a cell
 /// boundary is not (a glyph's own pixels on the box's edge keep this below 1).
 const FLAT_GROUND: f64 = 0.9;
+/// The scale of a block that cannot float at all: it keeps a scale (rather than none) so
+/// that the labels aligned with it follow the map with it ([`share_scale`]).
+const CANNOT_FLOAT: f64 = 0.0;
 /// Least gap between two floating text blocks, output pixels.
 const TEXT_GAP_PX: f64 = 2.0;
 /// Blocks whose left (right) edges lie within this of each other are one left-aligned
@@ -171,7 +174,6 @@ pub fn area_text_placements(
 ) -> Vec<Option<TextPlacement>> {
     let text = &st.text;
     let grounds: Vec<([u8; 3], f64)> = text.iter().map(|t| box_ground(src, t)).collect();
-    let ground: Vec<[u8; 3]> = grounds.iter().map(|g| g.0).collect();
     let area_of = |t: &TextBlock| st.area_of(t);
     // Anchor along x: 0 left, 0.5 centre, 1 right.
     let anchor = |i: usize| {
@@ -210,7 +212,7 @@ pub fn area_text_placements(
             // cell, the crossing of a heat map's separators) follows the map, and so does
             // every label of its size ([`share_scale`]).
             if grounds[i].1 < FLAT_GROUND {
-                return Some(0.0);
+                return Some(CANNOT_FLOAT);
             }
             let [ax, _, ay, _] = (*maps.get(area_of(t)?)?)?;
             Some(ax.max(ay).min(1.0))
@@ -222,9 +224,16 @@ pub fn area_text_placements(
             && a[1] < b[3] + TEXT_GAP_PX
             && b[1] < a[3] + TEXT_GAP_PX
     };
+    // Whether block i at its present scale covers ink: it depends on its own box alone, so
+    // it is looked at again only once the block has shrunk.
+    let mut covers: Vec<Option<bool>> = vec![None; text.len()];
     for _ in 0..12 {
         let boxes: Vec<Option<[f64; 4]>> = (0..text.len())
-            .map(|i| scale[i].filter(|&s| s > 0.0).and_then(|s| placed(i, s)))
+            .map(|i| {
+                scale[i]
+                    .filter(|&s| s > CANNOT_FLOAT)
+                    .and_then(|s| placed(i, s))
+            })
             .collect();
         let shrink: Vec<bool> = boxes
             .iter()
@@ -235,16 +244,19 @@ pub fn area_text_placements(
                         .iter()
                         .enumerate()
                         .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
-                        || covers_ink(src, &text[i], ground[i], bi, maps, area_of(&text[i]))
+                        || *covers[i].get_or_insert_with(|| {
+                            covers_ink(src, &text[i], grounds[i].0, bi, maps, area_of(&text[i]))
+                        })
                 })
             })
             .collect();
         if !shrink.contains(&true) {
             break;
         }
-        for (s, &k) in scale.iter_mut().zip(&shrink) {
+        for ((s, c), &k) in scale.iter_mut().zip(&mut covers).zip(&shrink) {
             if k {
                 *s = s.map(|v| v * 0.9);
+                *c = None;
             }
         }
     }
@@ -268,8 +280,8 @@ const SAME_TYPE_SIZE: f64 = 0.25;
 /// ticks, a dashboard's panel titles) or one row (an x axis' ticks) of the same type size in
 /// one area take the smallest scale any of them could float at, and follow the map together
 /// where one of them cannot float, since labels of two sizes read as two kinds of thing
-/// (blind judges named mixed sizes the most common defect after tearing). Shrinking a block about its anchor keeps it inside the
-/// box it had, so no new overlap appears.
+/// (blind judges named mixed sizes the most common defect after tearing). Shrinking a block
+/// about its anchor keeps it inside the box it had, so no new overlap appears.
 fn share_scale(
     text: &[TextBlock],
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
