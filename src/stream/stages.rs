@@ -549,17 +549,19 @@ impl RenderStage {
                 && p.opaque == opaque
                 && p.mesh.size() == mesh.size()
         });
-        let mut out = match usable {
+        // The output, and whether the floating marks are already on it.
+        let (mut out, pasted) = match usable {
             None => {
                 let mut out = Image::new(target);
                 self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
-                out
+                (out, false)
             }
             Some(p)
                 if Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty() =>
             {
-                // Same pixels, mesh and warp: the same floating marks, already drawn.
-                self.prev.as_ref().expect("usable").image.clone()
+                // Same pixels, mesh and warp: the same floating marks, already drawn (a
+                // scaled mark blends its rim over what lies under it: twice is not once).
+                (self.prev.as_ref().expect("usable").image.clone(), true)
             }
             Some(p) => {
                 let kept = unchanged_triangles(&p.mesh, &p.warp, mesh, warp);
@@ -599,10 +601,12 @@ impl RenderStage {
                     .render_partial(warped.as_ref(), mesh, warp, &mut out, &|t, r| {
                         kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3]) && !drawn_over(t)
                     });
-                out
+                (out, false)
             }
         };
-        floating.paste(src, &mut out);
+        if !pasted {
+            floating.paste(src, &mut out);
+        }
         self.floated = floating.len();
         self.prev = Some(Previous {
             mesh: mesh.clone(),
