@@ -298,31 +298,55 @@ proptest! {
     }
 }
 
-/// The default (`--regions affine`) bends nothing: every dot of a scatter comes out where a
-/// linear resize puts it and at the size it gives, so positions and sizes that encode data
-/// stay proportional (judged blind, readers preferred this to the modes that bend).
+/// The default (`--regions affine`) bends nothing: every dot of a scatter comes out centred
+/// where a linear resize puts it. Dots of a colour that paints only round marks on a plain
+/// ground keep their shape, all at one scale (sizes keep their proportions); where the same
+/// colour also paints a shape that is no mark (here an L), none of its dots float, and all
+/// come out as the linear resize's ellipses (judged blind, round and squeezed marks side by
+/// side read worse than all squeezed).
 #[test]
-fn the_default_keeps_every_position_and_size_proportional() {
+fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
     let radii = [5.0, 8.0, 12.0, 16.0, 20.0, 7.0, 10.0, 14.0];
-    let (img, dots) = scatter(11, &radii);
     let target = Size::new(300, 380).unwrap();
-    let out = retarget(&img, target, &Options::default()).unwrap().image;
-    let found = blobs(&out);
-    assert_eq!(found.len(), dots.len(), "{found:?}");
-    for &(x, y, r) in &dots {
-        let lin = DVec2::new(x as f64 * 0.5, y as f64);
-        let b = nearest(&found, lin);
-        assert!(
-            DVec2::new(b.0, b.1).distance(lin) <= 1.0,
-            "dot at ({x}, {y}) came out at ({}, {})",
-            b.0,
-            b.1
-        );
-        // Half as wide, as tall: a linear resize's ellipse.
-        let (bw, bh) = (b.2, b.3);
-        assert!(
-            (bw - r as f64).abs() <= 1.5 && (bh - 2.0 * r as f64).abs() <= 1.5,
-            "a dot of radius {r} came out {bw}x{bh}"
-        );
+    for with_l in [false, true] {
+        let (mut img, dots) = scatter(11, &radii);
+        if with_l {
+            rect(&mut img, 566, 40, 574, 200, DOT);
+            rect(&mut img, 566, 192, 596, 200, DOT);
+        }
+        let out = retarget(&img, target, &Options::default()).unwrap().image;
+        let found = blobs(&out);
+        assert_eq!(found.len(), dots.len() + with_l as usize, "{found:?}");
+        let mut scales = Vec::new();
+        for &(x, y, r) in &dots {
+            let lin = DVec2::new(x as f64 * 0.5, y as f64);
+            let b = nearest(&found, lin);
+            assert!(
+                DVec2::new(b.0, b.1).distance(lin) <= 1.0,
+                "dot at ({x}, {y}) came out at ({}, {})",
+                b.0,
+                b.1
+            );
+            let (bw, bh) = (b.2, b.3);
+            if with_l {
+                // Half as wide, as tall: a linear resize's ellipse.
+                assert!(
+                    (bw - r as f64).abs() <= 1.5 && (bh - 2.0 * r as f64).abs() <= 1.5,
+                    "a dot of radius {r} came out {bw}x{bh}"
+                );
+            } else {
+                assert!(
+                    (bw - bh).abs() <= (0.1 * bh).max(1.5),
+                    "a dot of radius {r} came out {bw}x{bh}: not round"
+                );
+                scales.push(bh / (2.0 * r as f64));
+            }
+        }
+        if let (Some(lo), Some(hi)) = (
+            scales.iter().copied().reduce(f64::min),
+            scales.iter().copied().reduce(f64::max),
+        ) {
+            assert!(hi - lo <= 0.12, "scales {scales:?}");
+        }
     }
 }

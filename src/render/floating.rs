@@ -340,9 +340,39 @@ const MAX_COVERED_INK: f64 = 0.01;
 /// pixels just inside its box (glyphs rarely touch their box on all four sides), and the
 /// share of the ring it takes.
 fn box_ground(src: &Image, t: &TextBlock) -> ([u8; 3], f64) {
+    let counts = ring_colours(src, [t.x0, t.y0, t.x1, t.y1]);
+    let all: u32 = counts.iter().map(|c| c.1).sum();
+    counts
+        .into_iter()
+        .max_by_key(|&(_, n)| n)
+        .map_or(([255; 3], 0.0), |(c, n)| (c, n as f64 / all.max(1) as f64))
+}
+
+/// Whether a blob of `colour` inside `rect` stands alone on a plain ground: the border of
+/// `rect` holds none of its colour (it does not run on beyond its box: a region of a map,
+/// a cluster) and at most two ground colours, bar a few pixels (a dot on the boundary of two
+/// regions, a thin line through it), so the ground painted in under it stays plain.
+fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
+    let counts = ring_colours(src, rect);
+    let all: u32 = counts.iter().map(|c| c.1).sum();
+    let mut grounds: Vec<u32> = Vec::with_capacity(counts.len());
+    for &(c, n) in &counts {
+        if same_colour(c, colour) {
+            return false;
+        }
+        grounds.push(n);
+    }
+    grounds.sort_unstable_by(|a, b| b.cmp(a));
+    let two: u32 = grounds.iter().take(2).sum();
+    two as f64 >= FLAT_GROUND * all.max(1) as f64
+}
+
+/// The colours on the border pixels of `[x0, y0, x1, y1)` (clipped to the picture), each with
+/// its pixel count; colours within [`SAME_COLOUR`] of each other count as one.
+fn ring_colours(src: &Image, [x0, y0, x1, y1]: [u32; 4]) -> Vec<([u8; 3], u32)> {
     let (w, h) = (src.width(), src.height());
-    let (x0, y0) = (t.x0.min(w - 1), t.y0.min(h - 1));
-    let (x1, y1) = (t.x1.clamp(x0 + 1, w) - 1, t.y1.clamp(y0 + 1, h) - 1);
+    let (x0, y0) = (x0.min(w - 1), y0.min(h - 1));
+    let (x1, y1) = (x1.clamp(x0 + 1, w) - 1, y1.clamp(y0 + 1, h) - 1);
     let mut counts: Vec<([u8; 3], u32)> = Vec::new();
     let ring = (x0..=x1)
         .flat_map(|x| [(x, y0), (x, y1)])
@@ -355,11 +385,7 @@ fn box_ground(src: &Image, t: &TextBlock) -> ([u8; 3], f64) {
             None => counts.push((c, 1)),
         }
     }
-    let all: u32 = counts.iter().map(|c| c.1).sum();
     counts
-        .into_iter()
-        .max_by_key(|&(_, n)| n)
-        .map_or(([255; 3], 0.0), |(c, n)| (c, n as f64 / all.max(1) as f64))
 }
 
 /// Whether text block `t`, drawn over the output box `b` (its whole box, ground and all),
@@ -422,11 +448,12 @@ pub(crate) fn area_marks(
     for (k, a) in areas.iter().enumerate() {
         // A whole canvas taken as one area (`--regions affine`) may be a map or a graph,
         // where a blob is as likely a region or a cluster as a mark: judged blind, pasting
-        // some of them round tore maps and mixed round and squeezed marks, worse than a
-        // linear resize's uniform squeeze.
-        if a.kind == crate::structure::AreaKind::Canvas {
-            continue;
-        }
+        // some of them round tore maps and left round marks beside squeezed ones, worse than
+        // a linear resize's uniform squeeze. There a colour's marks float all together or
+        // not at all: only if every blob of that colour is a round mark on flat ground.
+        let whole_canvas = a.kind == crate::structure::AreaKind::Canvas;
+        let first = out.len();
+        let mut spoiled: Vec<[u8; 3]> = Vec::new();
         // Cells whose centre lies strictly inside the area.
         let c0 = ((a.x0 / s).floor() as usize + 1).min(gw);
         let c1 = ((a.x1 / s).ceil() as usize).saturating_sub(1).min(gw);
@@ -491,13 +518,24 @@ pub(crate) fn area_marks(
                     && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
                 let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
                     && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred));
-                if touches
-                    || in_text
-                    || !round
+                // Specks, text and what the canvas' edge cuts say nothing of a colour.
+                if touches || in_text || bw.max(bh) < 3.0 {
+                    continue;
+                }
+                let grown = [
+                    bbox[0].saturating_sub(RIM_PX + 1),
+                    bbox[1].saturating_sub(RIM_PX + 1),
+                    bbox[2] + RIM_PX + 1,
+                    bbox[3] + RIM_PX + 1,
+                ];
+                if !round
                     || bw.max(bh) > max_side
-                    || bw.max(bh) < 3.0
                     || fill > RECTANGLE_FILL
+                    || (whole_canvas && !stands_alone(src, grown, colour))
                 {
+                    if whole_canvas {
+                        spoiled.push(colour);
+                    }
                     continue;
                 }
                 let centre = DVec2::new(
@@ -515,6 +553,13 @@ pub(crate) fn area_marks(
                     colour,
                 ));
             }
+        }
+        if whole_canvas {
+            let mut i = 0;
+            out.retain(|m: &(Mark, usize, [u8; 3])| {
+                i += 1;
+                i <= first || !spoiled.iter().any(|&c| same_colour(c, m.2))
+            });
         }
     }
     out
