@@ -348,6 +348,43 @@ fn box_ground(src: &Image, t: &TextBlock) -> ([u8; 3], f64) {
         .map_or(([255; 3], 0.0), |(c, n)| (c, n as f64 / all.max(1) as f64))
 }
 
+const GROUND_COLOURS: usize = 3;
+
+/// `rect` grown, side by side and by at most `reach` pixels, while the row or column beyond
+/// it holds a pixel of `colour` along it: a blob's box from the saliency cells that hold it
+/// misses its faint antialiased edge, which a pasted mark would otherwise cut off.
+fn ink_box(src: &Image, rect: [u32; 4], colour: [u8; 3], reach: u32) -> [u32; 4] {
+    let (w, h) = (src.width(), src.height());
+    let [mut x0, mut y0, mut x1, mut y1] = [rect[0], rect[1], rect[2].min(w), rect[3].min(h)];
+    let inked = |x: u32, y: u32| {
+        let p = src.get(x, y);
+        same_colour([p[0], p[1], p[2]], colour)
+    };
+    for _ in 0..reach {
+        let mut grew = false;
+        if x0 > 0 && (y0..y1).any(|y| inked(x0 - 1, y)) {
+            x0 -= 1;
+            grew = true;
+        }
+        if x1 < w && (y0..y1).any(|y| inked(x1, y)) {
+            x1 += 1;
+            grew = true;
+        }
+        if y0 > 0 && (x0..x1).any(|x| inked(x, y0 - 1)) {
+            y0 -= 1;
+            grew = true;
+        }
+        if y1 < h && (x0..x1).any(|x| inked(x, y1)) {
+            y1 += 1;
+            grew = true;
+        }
+        if !grew {
+            break;
+        }
+    }
+    [x0, y0, x1, y1]
+}
+
 /// Whether a blob of `colour` inside `rect` stands alone on a plain ground: the border of
 /// `rect` holds none of its colour (it does not run on beyond its box: a region of a map,
 /// a cluster) and at most two ground colours, bar a few pixels (a dot on the boundary of two
@@ -363,7 +400,7 @@ fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
         grounds.push(n);
     }
     grounds.sort_unstable_by(|a, b| b.cmp(a));
-    let two: u32 = grounds.iter().take(2).sum();
+    let two: u32 = grounds.iter().take(GROUND_COLOURS).sum();
     two as f64 >= FLAT_GROUND * all.max(1) as f64
 }
 
@@ -503,7 +540,12 @@ pub(crate) fn area_marks(
                     }
                 }
                 let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
-                let bbox = [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32);
+                let bbox = ink_box(
+                    src,
+                    [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
+                    colour,
+                    s.ceil() as u32 + RIM_PX,
+                );
                 let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
                 let fill = cells as f64 / ((x1 - x0) * (y1 - y0)) as f64;
                 let in_text = text.iter().any(|t| {
@@ -528,9 +570,12 @@ pub(crate) fn area_marks(
                     bbox[2] + RIM_PX + 1,
                     bbox[3] + RIM_PX + 1,
                 ];
+                // A blob a few cells across is a filled square at cell resolution, whatever
+                // its shape: only a larger one can be told for a rectangle.
+                let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
                 if !round
                     || bw.max(bh) > max_side
-                    || fill > RECTANGLE_FILL
+                    || rectangle
                     || (whole_canvas && !stands_alone(src, grown, colour))
                 {
                     if whole_canvas {
