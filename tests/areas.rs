@@ -350,3 +350,25 @@ fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
         }
     }
 }
+
+/// Where nothing floats (bars and frames: no text, no round marks), the default is exactly a
+/// plain linear resize: a chart that is not bent is drawn as a linear resize draws it, with no
+/// snapped or redrawn lines of its own.
+#[test]
+fn where_nothing_floats_the_default_is_the_linear_resize() {
+    let mut img = Image::filled(Size::new(400, 240).unwrap(), [255; 4]);
+    rect(&mut img, 30, 20, 32, 220, AXIS);
+    rect(&mut img, 30, 218, 380, 220, AXIS);
+    for (i, h) in [120u32, 80, 170, 60, 140].iter().enumerate() {
+        let x = 60 + i as u32 * 60;
+        rect(&mut img, x, 218 - h, x + 36, 218, [200, 80, 40, 255]);
+    }
+    for target in [Size::new(200, 240).unwrap(), Size::new(400, 144).unwrap()] {
+        let out = retarget(&img, target, &Options::default()).unwrap().image;
+        let linear = vizretarget::render::resize_linear(img.as_ref(), target);
+        assert!(
+            out == linear,
+            "{target:?}: the default differs from the linear resize"
+        );
+    }
+}

@@ -9,12 +9,14 @@
 
 mod fill;
 mod floating;
+mod resize;
 mod ripmap;
 mod sample;
 
 pub(crate) use fill::fill_from_surroundings;
 pub(crate) use floating::{area_marks, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
+pub use resize::resize_linear;
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;

@@ -13,6 +13,7 @@ use crate::raster::snap;
 use crate::render::{Floating, MaskKind, Renderer};
 use crate::saliency::{Rect, Vsm, VsmBuilder, DILATION_RADIUS};
 use crate::solve::{EnergyParams, SalientFit, SolveStats, Solver, Warp};
+use crate::structure::AreaKind;
 use crate::structure::Structure;
 use glam::DVec2;
 use std::collections::{HashMap, HashSet};
@@ -549,8 +550,21 @@ impl RenderStage {
                 && p.opaque == opaque
                 && p.mesh.size() == mesh.size()
         });
-        // The output, and whether the floating marks are already on it.
+        // A canvas taken whole is one linear map: resampled as a plain linear resize is
+        // ([`crate::render::resize_linear`]), with none of the crisp-line work that only a
+        // bending warp needs (judged blind, its notches and specks were the defects left once
+        // nothing bent).
+        let whole_canvas = mesh
+            .structure()
+            .is_some_and(|s| s.areas.iter().any(|a| a.kind == AreaKind::Canvas));
         let (mut out, pasted) = match usable {
+            _ if whole_canvas
+                && !usable.is_some_and(|p| {
+                    Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
+                }) =>
+            {
+                (crate::render::resize_linear(warped.as_ref(), target), false)
+            }
             None => {
                 let mut out = Image::new(target);
                 self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
