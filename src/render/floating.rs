@@ -261,6 +261,18 @@ pub fn area_text_placements(
         }
     }
     share_scale(text, &area_of, &mut scale);
+    // On a canvas taken whole, the text floats all of it or none: judged blind, a title at
+    // its size over condensed labels read worse than all condensed.
+    let on_canvas = |t: &TextBlock| {
+        area_of(t).is_some_and(|k| st.areas[k].kind == crate::structure::AreaKind::Canvas)
+    };
+    if (0..text.len()).any(|i| on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)) {
+        for (i, s) in scale.iter_mut().enumerate() {
+            if on_canvas(&text[i]) {
+                *s = None;
+            }
+        }
+    }
     (0..text.len())
         .map(|i| {
             let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
@@ -487,7 +499,7 @@ pub(crate) fn area_marks(
         // where a blob is as likely a region or a cluster as a mark: judged blind, pasting
         // some of them round tore maps and left round marks beside squeezed ones, worse than
         // a linear resize's uniform squeeze. There a colour's marks float all together or
-        // not at all: only if every blob of that colour is a round mark on flat ground.
+        // not at all: only if every blob of that colour is a round mark standing alone.
         let whole_canvas = a.kind == crate::structure::AreaKind::Canvas;
         let first = out.len();
         let mut spoiled: Vec<[u8; 3]> = Vec::new();
@@ -1021,6 +1033,26 @@ mod tests {
         let (img, st) = chart(&blocks[..1], &[]);
         let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
         assert_eq!(p[0].map(|p| p.scale), Some(1.0));
+    }
+
+    #[test]
+    fn on_a_whole_canvas_text_floats_all_or_none() {
+        let target = Size::new(100, 100).unwrap();
+        // A title, and a label elsewhere (not aligned with it) on a striped ground.
+        let blocks = [[20, 5, 90, 15], [120, 60, 150, 70]];
+        let (mut img, st) = chart(&blocks, &[]);
+        for y in 60..70 {
+            for x in (120..150).step_by(2) {
+                if img.get(x, y) != INK {
+                    img.set(x, y, [30, 160, 60, 255]);
+                }
+            }
+        }
+        let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        assert_eq!(p, vec![None, None]);
+        let (img, st) = chart(&blocks, &[]);
+        let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        assert!(p.iter().all(|p| p.is_some()), "{p:?}");
     }
 
     #[test]
