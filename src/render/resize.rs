@@ -23,71 +23,80 @@ fn catmull_rom(x: f32) -> f32 {
     }
 }
 
-/// The taps of one output sample along an axis: the first source index, the weights (summing
-/// to 1) and the range of tap indices of the positive lobe, whose samples bound the result.
+/// The taps of one output sample along an axis: the first source index, where its weights
+/// (summing to 1) lie in [`Axis::weights`], and the range of tap indices of the positive
+/// lobe, whose samples bound the result.
 struct Taps {
     start: usize,
-    weights: Vec<f32>,
+    weights: std::ops::Range<usize>,
     positive: (usize, usize),
 }
 
-/// The taps of every output sample when `n` source samples become `m`.
-fn taps(n: usize, m: usize) -> Vec<Taps> {
-    let scale = m as f32 / n as f32;
-    // Shrinking widens the filter to cover the source samples each output sample stands for.
-    let stretch = (1.0 / scale).max(1.0);
-    let support = 2.0 * stretch;
-    (0..m)
-        .map(|i| {
-            let centre = (i as f32 + 0.5) / scale - 0.5;
-            let lo = ((centre - support).floor() as i64 + 1).max(0) as usize;
-            let hi = ((centre + support).floor() as i64)
-                .min(n as i64 - 1)
-                .max(lo as i64) as usize;
-            let mut weights: Vec<f32> = (lo..=hi)
-                .map(|j| catmull_rom((j as f32 - centre) / stretch))
-                .collect();
-            let sum: f32 = weights.iter().sum();
-            if sum.abs() > 1e-6 {
-                weights.iter_mut().for_each(|w| *w /= sum);
-            } else {
-                // No tap carries weight (a single sample far from the centre): take the nearest.
-                weights.iter_mut().for_each(|w| *w = 0.0);
-                let k = (centre.round().clamp(lo as f32, hi as f32) as usize) - lo;
-                weights[k] = 1.0;
-            }
-            let pos: Vec<usize> = (0..weights.len()).filter(|&k| weights[k] > 0.0).collect();
-            let positive = (
-                pos.first().copied().unwrap_or(0),
-                pos.last().copied().unwrap_or(0),
-            );
-            Taps {
-                start: lo,
-                weights,
-                positive,
-            }
-        })
-        .collect()
+/// The taps of every output sample along one axis, their weights in one buffer.
+struct Axis {
+    taps: Vec<Taps>,
+    weights: Vec<f32>,
 }
 
-/// One channel value from samples `at(start + k)` under `t`, clamped to its positive lobe's
-/// samples.
-#[inline]
-fn filter(t: &Taps, at: impl Fn(usize) -> [f32; 4]) -> [f32; 4] {
-    let mut acc = [0f32; 4];
-    let mut lo = [f32::MAX; 4];
-    let mut hi = [f32::MIN; 4];
-    for (k, &w) in t.weights.iter().enumerate() {
-        let v = at(t.start + k);
-        for c in 0..4 {
-            acc[c] += w * v[c];
+impl Axis {
+    /// The taps when `n` source samples become `m`.
+    fn new(n: usize, m: usize) -> Axis {
+        let scale = m as f32 / n as f32;
+        // Shrinking widens the filter over the source samples each output sample stands for.
+        let stretch = (1.0 / scale).max(1.0);
+        let support = 2.0 * stretch;
+        let mut weights = Vec::with_capacity(m * (2.0 * support).ceil() as usize + m);
+        let taps = (0..m)
+            .map(|i| {
+                let centre = (i as f32 + 0.5) / scale - 0.5;
+                let lo = ((centre - support).floor() as i64 + 1).max(0) as usize;
+                let hi = ((centre + support).floor() as i64)
+                    .min(n as i64 - 1)
+                    .max(lo as i64) as usize;
+                let first = weights.len();
+                weights.extend((lo..=hi).map(|j| catmull_rom((j as f32 - centre) / stretch)));
+                let w = &mut weights[first..];
+                let sum: f32 = w.iter().sum();
+                if sum.abs() > 1e-6 {
+                    w.iter_mut().for_each(|v| *v /= sum);
+                } else {
+                    // No tap carries weight (one sample far from the centre): the nearest.
+                    w.iter_mut().for_each(|v| *v = 0.0);
+                    w[(centre.round().clamp(lo as f32, hi as f32) as usize) - lo] = 1.0;
+                }
+                let first_pos = w.iter().position(|&v| v > 0.0).unwrap_or(0);
+                let last_pos = w.iter().rposition(|&v| v > 0.0).unwrap_or(0);
+                Taps {
+                    start: lo,
+                    weights: first..weights.len(),
+                    positive: (first_pos, last_pos),
+                }
+            })
+            .collect();
+        Axis { taps, weights }
+    }
+
+    /// Sample `i` from source samples `at(j)`, clamped to its positive lobe's samples.
+    #[inline]
+    fn filter(&self, i: usize, at: impl Fn(usize) -> [f32; 4]) -> [f32; 4] {
+        let t = &self.taps[i];
+        let mut acc = [0f32; 4];
+        let mut lo = [f32::MAX; 4];
+        let mut hi = [f32::MIN; 4];
+        for (k, &w) in self.weights[t.weights.clone()].iter().enumerate() {
+            let v = at(t.start + k);
+            for c in 0..4 {
+                acc[c] += w * v[c];
+            }
             if k >= t.positive.0 && k <= t.positive.1 {
-                lo[c] = lo[c].min(v[c]);
-                hi[c] = hi[c].max(v[c]);
+                for c in 0..4 {
+                    lo[c] = lo[c].min(v[c]);
+                    hi[c] = hi[c].max(v[c]);
+                }
             }
         }
+        std::array::from_fn(|c| acc[c].clamp(lo[c], hi[c]))
     }
-    std::array::from_fn(|c| acc[c].clamp(lo[c], hi[c]))
 }
 
 /// `src` resized to `target`, each axis on its own.
@@ -99,21 +108,19 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     let (tw, th) = (target.width as usize, target.height as usize);
     let px = src.pixels();
     // Across first: sh rows of tw samples.
-    let across = taps(sw, tw);
+    let across = Axis::new(sw, tw);
     let mut mid = vec![[0f32; 4]; sh * tw];
-    for y in 0..sh {
-        let row = &px[y * sw..(y + 1) * sw];
-        for (x, t) in across.iter().enumerate() {
-            mid[y * tw + x] = filter(t, |j| row[j].map(f32::from));
+    for (row, out) in px.chunks_exact(sw).zip(mid.chunks_exact_mut(tw)) {
+        for (x, o) in out.iter_mut().enumerate() {
+            *o = across.filter(x, |j| row[j].map(f32::from));
         }
     }
-    let down = taps(sh, th);
+    let down = Axis::new(sh, th);
     let mut out = Image::new(target);
-    let op = out.pixels_mut();
-    for (y, t) in down.iter().enumerate() {
-        for x in 0..tw {
-            let v = filter(t, |j| mid[j * tw + x]);
-            op[y * tw + x] = v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
+    for (y, orow) in out.pixels_mut().chunks_exact_mut(tw).enumerate() {
+        for (x, o) in orow.iter_mut().enumerate() {
+            let v = down.filter(y, |j| mid[j * tw + x]);
+            *o = v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
         }
     }
     out

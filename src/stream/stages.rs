@@ -557,25 +557,20 @@ impl RenderStage {
         let whole_canvas = mesh
             .structure()
             .is_some_and(|s| s.areas.iter().any(|a| a.kind == AreaKind::Canvas));
+        let unchanged = usable.is_some_and(|p| {
+            Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
+        });
         let (mut out, pasted) = match usable {
-            _ if whole_canvas
-                && !usable.is_some_and(|p| {
-                    Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
-                }) =>
-            {
-                (crate::render::resize_linear(warped.as_ref(), target), false)
+            Some(p) if unchanged => {
+                // Same pixels, mesh and warp: the same floating marks, already drawn (a
+                // scaled mark blends its rim over what lies under it: twice is not once).
+                (p.image.clone(), true)
             }
+            _ if whole_canvas => (crate::render::resize_linear(warped.as_ref(), target), false),
             None => {
                 let mut out = Image::new(target);
                 self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
                 (out, false)
-            }
-            Some(p)
-                if Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty() =>
-            {
-                // Same pixels, mesh and warp: the same floating marks, already drawn (a
-                // scaled mark blends its rim over what lies under it: twice is not once).
-                (self.prev.as_ref().expect("usable").image.clone(), true)
             }
             Some(p) => {
                 let kept = unchanged_triangles(&p.mesh, &p.warp, mesh, warp);
