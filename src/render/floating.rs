@@ -15,7 +15,7 @@ use crate::image::{Image, Size};
 use crate::mesh::Mark;
 use crate::saliency::Vsm;
 use crate::structure::TextBlock;
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 /// Importance from which a pixel near a mark is part of it (the blob itself is found at 0.5;
 /// this takes in most of its antialiased rim, the one-pixel growth below the rest).
@@ -150,6 +150,10 @@ const TEXT_GAP_PX: f64 = 2.0;
 /// Blocks whose left (right) edges lie within this of each other are one left-aligned
 /// (right-aligned) column: a legend's labels, a y axis' tick labels.
 const ALIGNED_PX: u32 = 2;
+/// How far a block read alone (a title, an axis title) may step aside from where the map
+/// puts it, in its own line heights: a label moved further than its own size detaches from
+/// what it names.
+const NUDGE_LINES: f64 = 1.0;
 
 /// Where a text block inside a data area is drawn over the warp: its output centre and scale.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -163,9 +167,10 @@ pub struct TextPlacement {
 /// shrinks along both axes (then it takes the larger of the two scales, never more than 1);
 /// it is anchored where its column is aligned (a legend's labels by their left edge, a y
 /// axis' tick labels by their right edge, anything else by its centre), at the place the
-/// area's map takes that anchor; floating blocks that would overlap each other are made
-/// smaller together, and a block that would fall below
-/// [`MIN_TEXT_FLOAT`] is left to the map. Kept inside the output canvas.
+/// area's map takes that anchor; floating blocks that would overlap each other or hide ink
+/// first step aside (at most [`NUDGE_LINES`] line heights, a row of labels across its line
+/// and a column along its lines, as one), then are made smaller together, and a block that
+/// would fall below [`MIN_TEXT_FLOAT`] is left to the map. Kept inside the output canvas.
 pub fn area_text_placements(
     src: &Image,
     st: &crate::structure::Structure,
@@ -175,33 +180,44 @@ pub fn area_text_placements(
     let text = &st.text;
     let grounds: Vec<([u8; 3], f64)> = text.iter().map(|t| box_ground(src, t)).collect();
     let area_of = |t: &TextBlock| st.area_of(t);
-    // Anchor along x: 0 left, 0.5 centre, 1 right.
+    // Ink of two colours is not a word (a line through a marker, dots along an axis): such
+    // a block follows the map and has no say in how the text floats.
+    let words: Vec<bool> = (text.iter().zip(&grounds))
+        .map(|(t, g)| one_ink(src, t, g.0))
+        .collect();
+    // Anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge most of
+    // its blocks share: a y axis' "120" and "100" share their left edges by chance, all its
+    // labels their right.
     let anchor = |i: usize| {
         let t = &text[i];
         let column = |edge: fn(&TextBlock) -> u32| {
-            text.iter().enumerate().any(|(j, o)| {
-                j != i && edge(o).abs_diff(edge(t)) <= ALIGNED_PX && (o.y0 >= t.y1 || o.y1 <= t.y0)
-            })
+            text.iter()
+                .enumerate()
+                .filter(|&(j, o)| {
+                    j != i
+                        && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
+                        && (o.y0 >= t.y1 || o.y1 <= t.y0)
+                })
+                .count()
         };
-        if column(|b| b.x0) {
-            0.0
-        } else if column(|b| b.x1) {
-            1.0
-        } else {
-            0.5
+        match (column(|b| b.x0), column(|b| b.x1)) {
+            (0, 0) => 0.5,
+            (left, right) if right > left => 1.0,
+            _ => 0.0,
         }
     };
     let (tw, th) = (target.width as f64, target.height as f64);
-    // Output box of block i at scale s (None: not in an area with a map).
-    let placed = |i: usize, s: f64| -> Option<[f64; 4]> {
+    // Output box of block i at scale s, moved by `shift[i]` (None: not in an area with a map).
+    let mut shift = vec![DVec2::ZERO; text.len()];
+    let placed = |i: usize, s: f64, d: DVec2| -> Option<[f64; 4]> {
         let t = &text[i];
         let [ax, bx, ay, by] = (*maps.get(area_of(t)?)?)?;
         let (x0, x1, y0, y1) = (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64);
         let k = anchor(i);
         let ax_src = x0 + k * (x1 - x0);
         let (w, h) = (s * (x1 - x0), s * (y1 - y0));
-        let left = (ax * ax_src + bx - k * w).clamp(0.0, (tw - w).max(0.0));
-        let top = (ay * (y0 + y1) / 2.0 + by - h / 2.0).clamp(0.0, (th - h).max(0.0));
+        let left = (ax * ax_src + bx - k * w + d.x).clamp(0.0, (tw - w).max(0.0));
+        let top = (ay * (y0 + y1) / 2.0 + by - h / 2.0 + d.y).clamp(0.0, (th - h).max(0.0));
         Some([left, top, left + w, top + h])
     };
     let mut scale: Vec<Option<f64>> = (0..text.len())
@@ -214,46 +230,118 @@ pub fn area_text_placements(
             if grounds[i].1 < FLAT_GROUND {
                 return Some(CANNOT_FLOAT);
             }
+            if !words[i] {
+                return None;
+            }
             let [ax, _, ay, _] = (*maps.get(area_of(t)?)?)?;
             Some(ax.max(ay).min(1.0))
         })
         .collect();
+    let group = type_groups(text, &area_of, &scale);
+    // Each group that may move, with the directions it may move in: a block alone any way,
+    // a row (an x axis' ticks) across its line, a column (a y axis' ticks) along its lines,
+    // so that no label slides off the tick it names; blocks read alone first.
+    let mut movers: Vec<(Vec<usize>, Vec<DVec2>)> = Vec::new();
+    for g in (0..text.len()).filter(|&g| group[g] == g) {
+        let m: Vec<usize> = (0..text.len()).filter(|&i| group[i] == g).collect();
+        let row = m
+            .iter()
+            .all(|&i| m.iter().all(|&j| text[i].y0 < text[j].y1));
+        let column = m
+            .iter()
+            .all(|&i| m.iter().all(|&j| text[i].x0 < text[j].x1));
+        let (up, down) = (DVec2::NEG_Y, DVec2::Y);
+        let (left, right) = (DVec2::NEG_X, DVec2::X);
+        let moves = match (m.len() == 1, row, column) {
+            (true, _, _) => vec![up, down, left, right],
+            (false, true, _) => vec![up, down],
+            (false, false, true) => vec![left, right],
+            _ => continue,
+        };
+        movers.push((m, moves));
+    }
+    movers.sort_by_key(|(m, _)| m.len() > 1);
     let overlap = |a: [f64; 4], b: [f64; 4]| {
         a[0] < b[2] + TEXT_GAP_PX
             && b[0] < a[2] + TEXT_GAP_PX
             && a[1] < b[3] + TEXT_GAP_PX
             && b[1] < a[3] + TEXT_GAP_PX
     };
-    // Whether block i at its present scale covers ink: it depends on its own box alone, so
-    // it is looked at again only once the block has shrunk.
-    let mut covers: Vec<Option<bool>> = vec![None; text.len()];
+    let clash = |i: usize, bi: [f64; 4], boxes: &[Option<[f64; 4]>]| {
+        boxes
+            .iter()
+            .enumerate()
+            .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
+    };
+    // Whether block i drawn over `b` hides ink that is not text floating with it.
+    let covers = |i: usize, b: [f64; 4], floating: &[&TextBlock]| {
+        let t = &text[i];
+        covers_ink(src, t, grounds[i].0, b, maps, area_of(t), floating)
+    };
+    // Whether block i at its present scale and place covers ink: it depends on its own box
+    // alone, so it is looked at again only once the block has shrunk or moved.
+    let mut covered: Vec<Option<bool>> = vec![None; text.len()];
     for _ in 0..12 {
-        let boxes: Vec<Option<[f64; 4]>> = (0..text.len())
+        let floating: Vec<&TextBlock> = (0..text.len())
+            .filter(|&j| scale[j].is_some_and(|s| s >= MIN_TEXT_FLOAT))
+            .map(|j| &text[j])
+            .collect();
+        let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
             .map(|i| {
                 scale[i]
                     .filter(|&s| s > CANNOT_FLOAT)
-                    .and_then(|s| placed(i, s))
+                    .and_then(|s| placed(i, s, shift[i]))
             })
             .collect();
+        // Blocks in the way step aside, before any shrinks, to the nearest place that is
+        // clear: blocks read alone first (a title, an axis title), then aligned rows across
+        // their line and columns along theirs, each as one.
+        for (members, moves) in &movers {
+            let conflict = members.iter().any(|&i| {
+                boxes[i].is_some_and(|bi| {
+                    clash(i, bi, &boxes)
+                        || *covered[i].get_or_insert_with(|| covers(i, bi, &floating))
+                })
+            });
+            if !conflict || members.iter().any(|&i| boxes[i].is_none()) {
+                continue;
+            }
+            let reach = (members.iter())
+                .map(|&i| NUDGE_LINES * scale[i].unwrap_or(0.0) * text[i].line_height as f64)
+                .fold(f64::INFINITY, f64::min);
+            let mut trial = boxes.clone();
+            let found = (1..=reach.floor() as i32)
+                .flat_map(|r| moves.iter().map(move |&m| m * r as f64))
+                .find(|&d| {
+                    for &i in members {
+                        trial[i] = scale[i].and_then(|s| placed(i, s, shift[i] + d));
+                    }
+                    members.iter().all(|&i| {
+                        trial[i].is_some_and(|b| !clash(i, b, &trial) && !covers(i, b, &floating))
+                    })
+                });
+            if let Some(d) = found {
+                for &i in members {
+                    shift[i] += d;
+                    boxes[i] = trial[i];
+                    covered[i] = Some(false);
+                }
+            }
+        }
         let shrink: Vec<bool> = boxes
             .iter()
             .enumerate()
             .map(|(i, bi)| {
                 bi.is_some_and(|bi| {
-                    boxes
-                        .iter()
-                        .enumerate()
-                        .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
-                        || *covers[i].get_or_insert_with(|| {
-                            covers_ink(src, &text[i], grounds[i].0, bi, maps, area_of(&text[i]))
-                        })
+                    clash(i, bi, &boxes)
+                        || *covered[i].get_or_insert_with(|| covers(i, bi, &floating))
                 })
             })
             .collect();
         if !shrink.contains(&true) {
             break;
         }
-        for ((s, c), &k) in scale.iter_mut().zip(&mut covers).zip(&shrink) {
+        for ((s, c), &k) in scale.iter_mut().zip(&mut covered).zip(&shrink) {
             if k {
                 *s = s.map(|v| v * 0.9);
                 *c = None;
@@ -266,7 +354,9 @@ pub fn area_text_placements(
     let on_canvas = |t: &TextBlock| {
         area_of(t).is_some_and(|k| st.areas[k].kind == crate::structure::AreaKind::Canvas)
     };
-    if (0..text.len()).any(|i| on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)) {
+    if (0..text.len())
+        .any(|i| words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT))
+    {
         for (i, s) in scale.iter_mut().enumerate() {
             if on_canvas(&text[i]) {
                 *s = None;
@@ -276,7 +366,7 @@ pub fn area_text_placements(
     (0..text.len())
         .map(|i| {
             let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
-            let b = placed(i, s)?;
+            let b = placed(i, s, shift[i])?;
             Some(TextPlacement {
                 centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
                 scale: s,
@@ -299,6 +389,27 @@ fn share_scale(
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
     scale: &mut [Option<f64>],
 ) {
+    let group = type_groups(text, area_of, scale);
+    let mut least = vec![f64::INFINITY; text.len()];
+    for (i, s) in scale.iter().enumerate() {
+        if let Some(s) = *s {
+            least[group[i]] = least[group[i]].min(s);
+        }
+    }
+    for (i, s) in scale.iter_mut().enumerate() {
+        if s.is_some() {
+            *s = Some(least[group[i]]);
+        }
+    }
+}
+
+/// The group of each block (the index of one member): blocks of one aligned column or row
+/// of the same type size in one area are one group, any other block a group of its own.
+fn type_groups(
+    text: &[TextBlock],
+    area_of: &impl Fn(&TextBlock) -> Option<usize>,
+    scale: &[Option<f64>],
+) -> Vec<usize> {
     let n = text.len();
     let mut group: Vec<usize> = (0..n).collect();
     let near = |a: u32, b: u32| a.abs_diff(b) <= ALIGNED_PX;
@@ -330,18 +441,42 @@ fn share_scale(
             }
         }
     }
-    let mut least = vec![f64::INFINITY; n];
-    for (i, s) in scale.iter().enumerate() {
-        if let Some(s) = *s {
-            let r = root(&mut group, i);
-            least[r] = least[r].min(s);
+    (0..n).map(|i| root(&mut group, i)).collect()
+}
+
+/// A word is set in one colour: antialiased, its pixels lie between that colour and the
+/// ground, all in one direction from the ground. Least cosine between a pixel's direction
+/// and the ink's for the two to be one colour (grey and orange on white: 0.78), least share
+/// of the ink in that colour, and least distance from the ground for a pixel to be ink
+/// (beyond noise and faint antialiasing, whose direction is unsteady).
+const SAME_INK_COS: f64 = 0.9;
+const ONE_INK_SHARE: f64 = 0.75;
+const INK_DISTANCE: f64 = 48.0;
+
+/// Whether the ink of text block `t` on `ground` is one colour: judged against the
+/// direction of its strongest pixel, the core of a stroke.
+fn one_ink(src: &Image, t: &TextBlock, ground: [u8; 3]) -> bool {
+    let g = DVec3::new(ground[0] as f64, ground[1] as f64, ground[2] as f64);
+    let ink = |x: u32, y: u32| {
+        let p = src.get(x, y);
+        let d = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64) - g;
+        (d.length() > INK_DISTANCE).then_some(d)
+    };
+    let (x1, y1) = (t.x1.min(src.width()), t.y1.min(src.height()));
+    let pixels = || (t.y0..y1).flat_map(move |y| (t.x0..x1).filter_map(move |x| ink(x, y)));
+    let Some(core) = pixels().max_by(|a, b| a.length_squared().total_cmp(&b.length_squared()))
+    else {
+        return true;
+    };
+    let core = core.normalize();
+    let (mut same, mut all) = (0u32, 0u32);
+    for d in pixels() {
+        all += 1;
+        if d.normalize().dot(core) >= SAME_INK_COS {
+            same += 1;
         }
     }
-    for (i, s) in scale.iter_mut().enumerate() {
-        if s.is_some() {
-            *s = Some(least[root(&mut group, i)]);
-        }
-    }
+    same as f64 >= ONE_INK_SHARE * all as f64
 }
 
 /// Share of the pixels a floating text block newly covers (beyond its own box) that may be
@@ -439,7 +574,8 @@ fn ring_colours(src: &Image, [x0, y0, x1, y1]: [u32; 4]) -> Vec<([u8; 3], u32)> 
 
 /// Whether text block `t`, drawn over the output box `b` (its whole box, ground and all),
 /// would hide ink that is not its own: the source under `b` by its area's map, outside the
-/// block's own box, is not all of the block's ground colour. A label may grow into empty
+/// block's own box and the boxes of the text `floating` elsewhere (painted out where it
+/// stands), is not all of the block's ground colour. A label may grow into empty
 /// ground, never over a bar, a cell or its neighbour.
 fn covers_ink(
     src: &Image,
@@ -448,6 +584,7 @@ fn covers_ink(
     b: [f64; 4],
     maps: &[Option<[f64; 4]>],
     area: Option<usize>,
+    floating: &[&TextBlock],
 ) -> bool {
     let Some([ax, bx, ay, by]) = area.and_then(|k| *maps.get(k)?) else {
         return false;
@@ -460,11 +597,19 @@ fn covers_ink(
     let sx1 = ((b[2] - bx) / ax).ceil().clamp(0.0, w) as u32;
     let sy0 = ((b[1] - by) / ay).floor().clamp(0.0, h) as u32;
     let sy1 = ((b[3] - by) / ay).ceil().clamp(0.0, h) as u32;
-    let own = |x: u32, y: u32| x + 1 >= t.x0 && x <= t.x1 && y + 1 >= t.y0 && y <= t.y1;
+    let inside =
+        |t: &TextBlock, x: u32, y: u32| x + 1 >= t.x0 && x <= t.x1 && y + 1 >= t.y0 && y <= t.y1;
+    // Other floating blocks are painted out where they stand and drawn where they float.
+    let near: Vec<&TextBlock> = (floating.iter().copied())
+        .filter(|o| o.x0 <= sx1 && o.x1 + 1 >= sx0 && o.y0 <= sy1 && o.y1 + 1 >= sy0)
+        .collect();
     let (mut ink, mut all) = (0u32, 0u32);
     for y in sy0..sy1 {
         for x in sx0..sx1 {
-            if own(x, y) {
+            if inside(t, x, y) {
+                continue;
+            }
+            if near.iter().any(|o| inside(o, x, y)) {
                 continue;
             }
             all += 1;
@@ -486,7 +631,11 @@ pub(crate) fn area_marks(
     vsm: &Vsm,
     st: &crate::structure::Structure,
 ) -> Vec<(Mark, usize, [u8; 3])> {
-    let (areas, text) = (&st.areas[..], &st.text[..]);
+    let areas = &st.areas[..];
+    // Blocks of two inks are not words (dots along an axis): they shelter no mark.
+    let text: Vec<&TextBlock> = (st.text.iter())
+        .filter(|t| one_ink(src, t, box_ground(src, t).0))
+        .collect();
     let s = vsm.scale() as f64;
     let grid = vsm.grid_size();
     let (gw, gh) = (grid.width as usize, grid.height as usize);
@@ -1003,14 +1152,125 @@ mod tests {
             "room around it: own size"
         );
 
-        // A bar just left of the label: at its own size the label's box would cover it.
+        // A bar just left of the label: at its own size and place the label's box would
+        // cover it, so it steps aside or shrinks.
         let (img, st) = chart(&[label], &[[40, 38, 56, 52]]);
         let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
         if let Some(p) = p[0] {
-            assert!(p.scale < 1.0);
             let left = p.centre.x - p.scale * 20.0;
             assert!(left >= 0.5 * 56.0 - 0.5, "covers the bar: left edge {left}");
         }
+        // Hemmed in on both sides, it cannot step aside and shrinks.
+        let (img, st) = chart(&[label], &[[40, 38, 50, 52], [110, 38, 120, 52]]);
+        let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        let p = p[0].expect("room for 3/4 of its size");
+        assert!(p.scale < 1.0, "{p:?}");
+        let (left, right) = (p.centre.x - p.scale * 20.0, p.centre.x + p.scale * 20.0);
+        assert!(
+            left >= 24.5 && right <= 55.5,
+            "covers a bar: {left}..{right}"
+        );
+    }
+
+    /// 60 % height: the canvas' map is x' = x, y' = 0.6 y.
+    const H60: [f64; 4] = [1.0, 0.0, 0.6, 0.0];
+
+    #[test]
+    fn an_axis_title_in_the_way_steps_aside() {
+        let target = Size::new(200, 60).unwrap();
+        // A row of tick labels and an axis title just under it: squeezed together at 60 %
+        // height, at their own size they would overlap.
+        let ticks = [[20, 60, 40, 72], [80, 60, 100, 72], [140, 60, 160, 72]];
+        let title = [85, 74, 125, 86];
+        let (img, st) = chart(&[ticks[0], ticks[1], ticks[2], title], &[]);
+        let p = area_text_placements(&img, &st, &[Some(H60)], target);
+        assert!(p.iter().all(|p| p.is_some_and(|p| p.scale == 1.0)), "{p:?}");
+        for (k, t) in ticks.iter().enumerate() {
+            let c = p[k].unwrap().centre;
+            assert_eq!(
+                c,
+                DVec2::new((t[0] + t[2]) as f64 / 2.0, 0.6 * 66.0),
+                "tick {k}"
+            );
+        }
+        let moved = p[3].unwrap().centre;
+        assert_eq!(moved.x, 105.0, "the title moves across its line only");
+        assert!(moved.y - 6.0 >= 0.6 * 66.0 + 6.0 + TEXT_GAP_PX, "{moved}");
+        assert!(
+            moved.y - 0.6 * 80.0 <= 12.0,
+            "within a line height: {moved}"
+        );
+    }
+
+    #[test]
+    fn a_row_of_tick_labels_moves_as_one_across_its_line() {
+        let target = Size::new(200, 60).unwrap();
+        // An axis line just over the tick labels: at their own size under the 60 % map,
+        // their boxes would reach over it.
+        let ticks = [[20, 60, 40, 72], [80, 60, 100, 72], [140, 60, 160, 72]];
+        let (img, st) = chart(&ticks, &[[0, 56, 200, 57]]);
+        let p = area_text_placements(&img, &st, &[Some(H60)], target);
+        let c: Vec<DVec2> = p.iter().map(|p| p.unwrap().centre).collect();
+        for (k, t) in ticks.iter().enumerate() {
+            assert_eq!(p[k].unwrap().scale, 1.0);
+            assert_eq!(c[k].x, (t[0] + t[2]) as f64 / 2.0, "stays under its tick");
+            assert_eq!(c[k].y, c[0].y, "one row");
+        }
+        assert!(c[0].y - 6.0 >= 0.6 * 57.0, "clear of the axis: {}", c[0].y);
+    }
+
+    #[test]
+    fn a_block_of_two_inks_shelters_no_mark() {
+        let disc = |img: &mut Image, cx: f64, c: [u8; 4]| {
+            for y in 40..60 {
+                for x in (cx - 10.0) as u32..(cx + 10.0) as u32 {
+                    if DVec2::new(x as f64 + 0.5 - cx, y as f64 + 0.5 - 50.0).length() <= 8.0 {
+                        img.set(x, y, c);
+                    }
+                }
+            }
+        };
+        let (_, mut st) = chart(&[], &[]);
+        // Dots taken for a word, as dots along an axis can be.
+        st.text.push(TextBlock {
+            x0: 88,
+            y0: 40,
+            x1: 142,
+            y1: 60,
+            line_height: 20,
+        });
+        for (second, floats) in [([31, 119, 180, 255], false), ([255, 127, 14, 255], true)] {
+            let mut img = Image::filled(Size::new(200, 100).unwrap(), [255; 4]);
+            disc(&mut img, 100.0, [31, 119, 180, 255]);
+            disc(&mut img, 130.0, second);
+            let vsm = crate::saliency::VsmBuilder::new().build(img.as_ref());
+            let marks = area_marks(&img, &vsm, &st);
+            assert_eq!(
+                marks.len(),
+                if floats { 2 } else { 0 },
+                "{second:?}: {marks:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn ink_of_two_colours_is_not_a_word() {
+        let target = Size::new(100, 100).unwrap();
+        let blocks = [[20, 5, 90, 15], [120, 60, 150, 70]];
+        let (mut img, st) = chart(&blocks, &[]);
+        assert!(one_ink(&img, &st.text[1], [255; 3]));
+        // A grey line through an orange dot, taken for text.
+        for y in 62..68 {
+            for x in (121..135).step_by(3) {
+                img.set(x, y, [255, 127, 14, 255]);
+            }
+            for x in (136..149).step_by(3) {
+                img.set(x, y, [128, 128, 128, 255]);
+            }
+        }
+        assert!(!one_ink(&img, &st.text[1], [255; 3]));
+        let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
+        assert!(p[0].is_some() && p[1].is_none(), "{p:?}");
     }
 
     #[test]
