@@ -696,3 +696,49 @@ fn hollow_marks_stay_round() {
         "one scale for the rings of one area: {scales:?}"
     );
 }
+
+/// An axis title set up the side is found as one sideways block over its ink, and the
+/// upright tick labels beside it are not taken for sideways text.
+#[test]
+fn a_sideways_axis_title_is_found() {
+    // "Age (years)" drawn upright, then turned a quarter (read bottom to top) onto the chart.
+    let mut word = Image::filled(Size::new(140, 24).unwrap(), [255; 4]);
+    draw_label(&mut word, 4.0, 2.0, 16.0, "Age (years)");
+    let mut img = Image::filled(Size::new(300, 260).unwrap(), [255; 4]);
+    for y in 0..24 {
+        for x in 0..140 {
+            img.set(20 + y, 200 - x, word.get(x, y));
+        }
+    }
+    for (i, label) in ["60", "50", "40", "30", "20"].iter().enumerate() {
+        draw_label(&mut img, 60.0, 40.0 + 40.0 * i as f32, 14.0, label);
+    }
+    rect(&mut img, 90, 20, 92, 240, [40, 40, 40, 255]);
+    let ink = |keep: &dyn Fn(u32, u32) -> bool| {
+        let px: Vec<(u32, u32)> = (0..260)
+            .flat_map(|y| (0..300).map(move |x| (x, y)))
+            .filter(|&(x, y)| keep(x, y) && img.get(x, y)[0] < 160)
+            .collect();
+        let x0 = px.iter().map(|p| p.0).min().unwrap();
+        let x1 = px.iter().map(|p| p.0).max().unwrap() + 1;
+        let y0 = px.iter().map(|p| p.1).min().unwrap();
+        let y1 = px.iter().map(|p| p.1).max().unwrap() + 1;
+        [x0, y0, x1, y1]
+    };
+    let title = ink(&|x, _| x < 50);
+    let text = Structure::detect(img.as_ref()).text;
+    let sideways: Vec<&TextBlock> = text.iter().filter(|b| b.sideways).collect();
+    assert_eq!(sideways.len(), 1, "{text:?}");
+    let b = sideways[0];
+    assert!(
+        b.x0 <= title[0] + 1
+            && b.x1 + 1 >= title[2]
+            && b.y0 <= title[1] + 2
+            && b.y1 + 2 >= title[3],
+        "title ink {title:?}, block {b:?}"
+    );
+    assert!(
+        text.iter().filter(|b| !b.sideways).count() >= 4,
+        "tick labels upright: {text:?}"
+    );
+}

@@ -46,6 +46,7 @@ pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
                 x1: x1 as u32,
                 y1: y1 as u32,
                 line_height: b.line_height,
+                sideways: b.sideways,
             })
         })
         .collect();

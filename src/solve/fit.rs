@@ -532,6 +532,7 @@ mod tests {
             x1,
             y1,
             line_height: y1 - y0,
+            sideways: false,
         }
     }
 

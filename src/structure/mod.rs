@@ -32,6 +32,44 @@ pub struct Structure {
     pub areas: Vec<DataArea>,
 }
 
+/// Least ratio of height to width of a block of text set up the side (a y axis' title): a
+/// word of a few letters; a lone glyph or a column of digits turned over is no word.
+const MIN_ROTATED_ASPECT: u32 = 2;
+
+/// Text set up the side (a y axis' title, turned 90° either way): the text of the transposed
+/// picture, turned back.
+fn rotated_text(
+    l: &[u8],
+    w: usize,
+    h: usize,
+    [horizontal, vertical]: [&[Line]; 2],
+) -> Vec<TextBlock> {
+    // Transposed in tiles, so that both reads and writes stay in cache.
+    const TILE: usize = 32;
+    let mut t = vec![0u8; l.len()];
+    for y0 in (0..h).step_by(TILE) {
+        for x0 in (0..w).step_by(TILE) {
+            for y in y0..(y0 + TILE).min(h) {
+                for x in x0..(x0 + TILE).min(w) {
+                    t[x * h + y] = l[y * w + x];
+                }
+            }
+        }
+    }
+    text::detect(&t, h, w, [vertical, horizontal])
+        .into_iter()
+        .map(|b| TextBlock {
+            x0: b.y0,
+            y0: b.x0,
+            x1: b.y1,
+            y1: b.x1,
+            line_height: b.line_height,
+            sideways: true,
+        })
+        .filter(|b| b.y1 - b.y0 >= MIN_ROTATED_ASPECT * (b.x1 - b.x0))
+        .collect()
+}
+
 /// Least canvas side (pixels) taken as one data area by [`Regions::Affine`].
 const MIN_CANVAS_AREA_PX: f64 = 8.0;
 
@@ -59,7 +97,20 @@ impl Structure {
         let (mut horizontal, mut vertical) = (h_found.solid, v_found.solid);
         // Text is found among solid lines only: a chain may run along the foot of a word, and
         // clearing a faint line's pixels would cut a texture into glyph-sized pieces.
-        let text = text::detect(&l, w, h, [&horizontal, &vertical]);
+        let mut text = text::detect(&l, w, h, [&horizontal, &vertical]);
+        for s in rotated_text(&l, w, h, [&horizontal, &vertical]) {
+            // Glyphs of a sideways title also pass, a few at a time, for upright words: the
+            // sideways reading wins where it is longer than any of them is wide.
+            let touch = |u: &TextBlock| !(u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1);
+            if text
+                .iter()
+                .filter(|u| touch(u))
+                .all(|u| u.x1 - u.x0 < s.y1 - s.y0)
+            {
+                text.retain(|u| !touch(u));
+                text.push(s);
+            }
+        }
         // A chain or a faint line crossing a text block is the foot or the top of its words.
         let clear = |line: &Line, across: fn(&TextBlock) -> [u32; 4]| {
             text.iter().all(|b| {

@@ -43,8 +43,10 @@ pub struct TextBlock {
     pub y0: u32,
     pub x1: u32,
     pub y1: u32,
-    /// Glyph height of its (tallest) line.
+    /// Glyph height of its (tallest) line (across the line, for text set sideways).
     pub line_height: u32,
+    /// Set up the side, read turned 90° (a y axis' title).
+    pub sideways: bool,
 }
 
 #[derive(Copy, Clone, Debug)]
@@ -392,6 +394,7 @@ fn merge_blocks(lines: Vec<(Comp, u32, usize)>) -> Vec<TextBlock> {
             x1: c.x1,
             y1: c.y1,
             line_height: lh,
+            sideways: false,
         })
         .collect();
     loop {
@@ -407,6 +410,7 @@ fn merge_blocks(lines: Vec<(Comp, u32, usize)>) -> Vec<TextBlock> {
                         x1: a.x1.max(b.x1),
                         y1: a.y1.max(b.y1),
                         line_height: a.line_height.max(b.line_height),
+                        sideways: a.sideways,
                     };
                     blocks.swap_remove(j);
                     merged = true;
