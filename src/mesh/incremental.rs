@@ -210,9 +210,9 @@ impl IncrementalMesh {
         let size = vsm.size();
         let sk = structure
             .filter(|s| !s.is_empty())
-            .map(|s| skeleton(s, size, options.alpha as f64));
+            .map(|s| skeleton(s, size, options.budget_alpha() as f64));
         let mut marks = find_marks(vsm);
-        let given = GivenRings::new(given, size, options.alpha);
+        let given = GivenRings::new(given, size, options.budget_alpha());
         if !given.marks.is_empty() {
             marks.retain(|m| !given.near(m.center, m.ring_radius, 1.0));
         }
@@ -226,7 +226,7 @@ impl IncrementalMesh {
                 })
             });
         }
-        let points = sample_key_points(vsm, options.alpha, &marks);
+        let points = sample_key_points(vsm, options.budget_alpha(), &marks);
         let mut next_id = first_id;
         let mut input: Vec<KeyVertex> = Vec::new();
         let mut seen: HashMap<(u64, u64), usize> = HashMap::new();
@@ -335,7 +335,7 @@ impl IncrementalMesh {
         );
         // Sample with every current mark known (so their rings exclude lattice points), keep
         // what falls in the region.
-        let points = sample_key_points(vsm, options.alpha, &self.marks);
+        let points = sample_key_points(vsm, options.budget_alpha(), &self.marks);
         let bits = |p: Point2<f64>| (p.x.to_bits(), p.y.to_bits());
         // The structure's skeleton (line and text-block points and their constraint edges)
         // stays as built: ordinary points near it are neither removed nor added.

@@ -378,7 +378,13 @@ mod tests {
             }
         }
         let vsm = VsmBuilder::new().build(img.as_ref());
-        let mesh = Mesh::build(&vsm, &MeshOptions::default());
+        // The paper's budget holds where the mesh shapes the picture (not under one affine
+        // map, whose mesh is the coarsest: `MeshOptions::budget_alpha`).
+        let options = MeshOptions {
+            regions: crate::structure::Regions::Auto,
+            ..MeshOptions::default()
+        };
+        let mesh = Mesh::build(&vsm, &options);
         let budget = 400.0 * 300.0 / 400.0;
         assert!(
             mesh.vertices().len() as f64 <= budget * 1.1,
@@ -456,11 +462,38 @@ mod tests {
     }
 
     #[test]
+    fn one_affine_map_takes_the_coarsest_mesh() {
+        let mut img = Image::filled(Size::new(400, 300).unwrap(), [255; 4]);
+        for y in (20..280).step_by(7) {
+            for x in (20..380).step_by(5) {
+                img.set(x, y, [0, 0, 0, 255]);
+            }
+        }
+        let vsm = VsmBuilder::new().build(img.as_ref());
+        let count = |regions| {
+            let options = MeshOptions {
+                regions,
+                ..MeshOptions::default()
+            };
+            Mesh::build(&vsm, &options).vertices().len()
+        };
+        let (affine, auto) = (
+            count(crate::structure::Regions::Affine),
+            count(crate::structure::Regions::Auto),
+        );
+        assert!(affine * 4 < auto, "affine {affine}, auto {auto} vertices");
+    }
+
+    #[test]
     fn corners_and_sides_are_present() {
         let size = Size::new(200, 120).unwrap();
         let img = Image::filled(size, [255; 4]);
         let vsm = VsmBuilder::new().build(img.as_ref());
-        let mesh = Mesh::build(&vsm, &MeshOptions::default());
+        let options = MeshOptions {
+            regions: crate::structure::Regions::Free,
+            ..MeshOptions::default()
+        };
+        let mesh = Mesh::build(&vsm, &options);
         for c in [(0.0, 0.0), (200.0, 0.0), (0.0, 120.0), (200.0, 120.0)] {
             assert!(mesh.vertices().contains(&DVec2::new(c.0, c.1)));
         }
