@@ -107,20 +107,64 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     let (sw, sh) = (src.width() as usize, src.height() as usize);
     let (tw, th) = (target.width as usize, target.height as usize);
     let px = src.pixels();
-    // Across first: sh rows of tw samples.
-    let across = Axis::new(sw, tw);
+    // Across first: sh rows of tw samples (an axis that keeps its size is copied).
     let mut mid = vec![[0f32; 4]; sh * tw];
-    for (row, out) in px.chunks_exact(sw).zip(mid.chunks_exact_mut(tw)) {
-        for (x, o) in out.iter_mut().enumerate() {
-            *o = across.filter(x, |j| row[j].map(f32::from));
+    if tw == sw {
+        for (o, p) in mid.iter_mut().zip(px) {
+            *o = p.map(f32::from);
+        }
+    } else {
+        let across = Axis::new(sw, tw);
+        let mut rowf = vec![[0f32; 4]; sw];
+        for (row, out) in px.chunks_exact(sw).zip(mid.chunks_exact_mut(tw)) {
+            for (f, p) in rowf.iter_mut().zip(row) {
+                *f = p.map(f32::from);
+            }
+            for (x, o) in out.iter_mut().enumerate() {
+                *o = across.filter(x, |j| rowf[j]);
+            }
         }
     }
+    let round = |v: [f32; 4]| v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
+    if th == sh {
+        let mut out = Image::new(target);
+        for (o, v) in out.pixels_mut().iter_mut().zip(&mid) {
+            *o = round(*v);
+        }
+        return out;
+    }
+    // Down, a whole row of taps at a time (a column at a time strides through `mid`).
     let down = Axis::new(sh, th);
     let mut out = Image::new(target);
+    let (mut acc, mut lo, mut hi) = (
+        vec![[0f32; 4]; tw],
+        vec![[0f32; 4]; tw],
+        vec![[0f32; 4]; tw],
+    );
     for (y, orow) in out.pixels_mut().chunks_exact_mut(tw).enumerate() {
+        let t = &down.taps[y];
+        acc.fill([0.0; 4]);
+        lo.fill([f32::MAX; 4]);
+        hi.fill([f32::MIN; 4]);
+        for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
+            let j = t.start + k;
+            let row = &mid[j * tw..(j + 1) * tw];
+            for (a, v) in acc.iter_mut().zip(row) {
+                for c in 0..4 {
+                    a[c] += w * v[c];
+                }
+            }
+            if k >= t.positive.0 && k <= t.positive.1 {
+                for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip(row) {
+                    for c in 0..4 {
+                        l[c] = l[c].min(v[c]);
+                        h[c] = h[c].max(v[c]);
+                    }
+                }
+            }
+        }
         for (x, o) in orow.iter_mut().enumerate() {
-            let v = down.filter(y, |j| mid[j * tw + x]);
-            *o = v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
+            *o = round(std::array::from_fn(|c| acc[x][c].clamp(lo[x][c], hi[x][c])));
         }
     }
     out
