@@ -198,6 +198,28 @@ mod tests {
     }
 
     #[test]
+    fn an_axis_that_keeps_its_size_is_left_alone() {
+        // Each row one colour, each column another shade: halving the width keeps every row's
+        // colour exactly, and 60 % height keeps every column's.
+        let size = Size::new(40, 30).unwrap();
+        let data: Vec<[u8; 4]> = (0..30u8)
+            .flat_map(|y| (0..40u8).map(move |x| [y * 8, x * 6, 0, 255]))
+            .collect();
+        let img = Image::from_pixels(size, data).unwrap();
+        let out = resize_linear(img.as_ref(), Size::new(20, 30).unwrap());
+        for y in 0..30u32 {
+            assert!((0..20).all(|x| out.get(x, y)[0] == y as u8 * 8), "row {y}");
+        }
+        let out = resize_linear(img.as_ref(), Size::new(40, 18).unwrap());
+        for x in 0..40u32 {
+            assert!(
+                (0..18).all(|y| out.get(x, y)[1] == x as u8 * 6),
+                "column {x}"
+            );
+        }
+    }
+
+    #[test]
     fn halving_averages_pairs() {
         let size = Size::new(8, 1).unwrap();
         let data: Vec<[u8; 4]> = (0..8u8).map(|i| [i * 20, 0, 0, 255]).collect();
