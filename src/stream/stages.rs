@@ -661,17 +661,26 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
     if m.floating.is_empty() && in_areas.is_empty() {
         return Floating::default();
     }
-    // Stream marks inside an area float with the area's marks.
-    let loose: Vec<Mark> = m
-        .floating
-        .iter()
-        .filter(|f| {
-            !in_areas
-                .iter()
-                .any(|(a, _)| a.center.distance(f.center) < a.ring_radius)
-        })
-        .copied()
-        .collect();
+    // Stream marks inside an area float with the area's marks. On a canvas taken whole
+    // there are none: it is resampled afresh from each frame, and its floats are found
+    // afresh too, so a kept mesh changes nothing drawn (a stream mark pasted at its own size
+    // there is one a fresh frame would draw squeezed).
+    let whole_canvas = mesh
+        .structure()
+        .is_some_and(|s| s.areas.iter().any(|a| a.kind == AreaKind::Canvas));
+    let loose: Vec<Mark> = if whole_canvas {
+        Vec::new()
+    } else {
+        m.floating
+            .iter()
+            .filter(|f| {
+                !in_areas
+                    .iter()
+                    .any(|(a, _)| a.center.distance(f.center) < a.ring_radius)
+            })
+            .copied()
+            .collect()
+    };
     let n_loose = loose.len();
     let mut marks = loose;
     marks.extend(in_areas.iter().map(|(mk, _)| *mk));
