@@ -99,6 +99,30 @@ impl Axis {
     }
 }
 
+/// Least rows per thread: below this a thread costs more than it saves.
+const ROWS_PER_THREAD: usize = 64;
+
+/// Runs `f(first_row, band)` over bands of whole rows of `rows` (`row_len` items each), one
+/// band per core: the rows of a resize pass are independent.
+fn in_bands<T: Send>(rows: &mut [T], row_len: usize, f: impl Fn(usize, &mut [T]) + Sync) {
+    let n = rows.len() / row_len.max(1);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |t| t.get())
+        .min(n / ROWS_PER_THREAD)
+        .max(1);
+    if threads == 1 {
+        f(0, rows);
+        return;
+    }
+    let per = n.div_ceil(threads);
+    std::thread::scope(|s| {
+        for (b, band) in rows.chunks_mut(per * row_len).enumerate() {
+            let f = &f;
+            s.spawn(move || f(b * per, band));
+        }
+    });
+}
+
 /// `src` resized to `target`, each axis on its own.
 pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     if src.size() == target {
@@ -115,19 +139,22 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
         }
     } else {
         let across = Axis::new(sw, tw);
-        let mut rowf = vec![[0f32; 4]; sw];
-        for (row, out) in px.chunks_exact(sw).zip(mid.chunks_exact_mut(tw)) {
-            for (f, p) in rowf.iter_mut().zip(row) {
-                *f = p.map(f32::from);
+        in_bands(&mut mid, tw, |first, band| {
+            let mut rowf = vec![[0f32; 4]; sw];
+            for (y, out) in band.chunks_exact_mut(tw).enumerate() {
+                let row = &px[(first + y) * sw..(first + y + 1) * sw];
+                for (f, p) in rowf.iter_mut().zip(row) {
+                    *f = p.map(f32::from);
+                }
+                for (x, o) in out.iter_mut().enumerate() {
+                    *o = across.filter(x, |j| rowf[j]);
+                }
             }
-            for (x, o) in out.iter_mut().enumerate() {
-                *o = across.filter(x, |j| rowf[j]);
-            }
-        }
+        });
     }
     let round = |v: [f32; 4]| v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
+    let mut out = Image::new(target);
     if th == sh {
-        let mut out = Image::new(target);
         for (o, v) in out.pixels_mut().iter_mut().zip(&mid) {
             *o = round(*v);
         }
@@ -135,38 +162,39 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     }
     // Down, a whole row of taps at a time (a column at a time strides through `mid`).
     let down = Axis::new(sh, th);
-    let mut out = Image::new(target);
-    let (mut acc, mut lo, mut hi) = (
-        vec![[0f32; 4]; tw],
-        vec![[0f32; 4]; tw],
-        vec![[0f32; 4]; tw],
-    );
-    for (y, orow) in out.pixels_mut().chunks_exact_mut(tw).enumerate() {
-        let t = &down.taps[y];
-        acc.fill([0.0; 4]);
-        lo.fill([f32::MAX; 4]);
-        hi.fill([f32::MIN; 4]);
-        for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
-            let j = t.start + k;
-            let row = &mid[j * tw..(j + 1) * tw];
-            for (a, v) in acc.iter_mut().zip(row) {
-                for c in 0..4 {
-                    a[c] += w * v[c];
-                }
-            }
-            if k >= t.positive.0 && k <= t.positive.1 {
-                for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip(row) {
+    in_bands(out.pixels_mut(), tw, |first, band| {
+        let (mut acc, mut lo, mut hi) = (
+            vec![[0f32; 4]; tw],
+            vec![[0f32; 4]; tw],
+            vec![[0f32; 4]; tw],
+        );
+        for (y, orow) in band.chunks_exact_mut(tw).enumerate() {
+            let t = &down.taps[first + y];
+            acc.fill([0.0; 4]);
+            lo.fill([f32::MAX; 4]);
+            hi.fill([f32::MIN; 4]);
+            for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
+                let j = t.start + k;
+                let row = &mid[j * tw..(j + 1) * tw];
+                for (a, v) in acc.iter_mut().zip(row) {
                     for c in 0..4 {
-                        l[c] = l[c].min(v[c]);
-                        h[c] = h[c].max(v[c]);
+                        a[c] += w * v[c];
+                    }
+                }
+                if k >= t.positive.0 && k <= t.positive.1 {
+                    for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip(row) {
+                        for c in 0..4 {
+                            l[c] = l[c].min(v[c]);
+                            h[c] = h[c].max(v[c]);
+                        }
                     }
                 }
             }
+            for (x, o) in orow.iter_mut().enumerate() {
+                *o = round(std::array::from_fn(|c| acc[x][c].clamp(lo[x][c], hi[x][c])));
+            }
         }
-        for (x, o) in orow.iter_mut().enumerate() {
-            *o = round(std::array::from_fn(|c| acc[x][c].clamp(lo[x][c], hi[x][c])));
-        }
-    }
+    });
     out
 }
 
