@@ -605,3 +605,58 @@ fn a_kept_warp_draws_what_a_fresh_frame_draws_and_still_panels_stay_still() {
         }
     }
 }
+
+/// A bar chart race in small: bars change length and the title's text changes every frame.
+/// Text found on an earlier frame must not be floated over a later one (a label that moved or
+/// grew out of its old box would be pasted torn): every frame equals the frame retargeted
+/// alone.
+#[test]
+fn changing_text_is_found_afresh() {
+    use vizretarget::compare::draw_label;
+    let target = Size::new(200, 240).unwrap();
+    let frame = |f: u32| {
+        let mut img = Image::filled(Size::new(400, 240).unwrap(), [255; 4]);
+        draw_label(
+            &mut img,
+            20.0,
+            8.0,
+            22.0,
+            &format!("Visits, week {}", 1 + 7 * f),
+        );
+        for (i, len) in [300u32, 220, 160].iter().enumerate() {
+            let len = (len + 13 * f * (i as u32 + 1)) % 340 + 20;
+            let y = 60 + 50 * i as u32;
+            draw_label(
+                &mut img,
+                4.0,
+                y as f32 + 4.0,
+                16.0,
+                ["Oslo", "Lima", "Perth"][i],
+            );
+            for yy in y..y + 30 {
+                for x in 60..60 + len.min(330) {
+                    img.set(x, yy, [44, 123, 182, 255]);
+                }
+            }
+        }
+        img
+    };
+    let frames: Vec<Image> = (0..8).map(frame).collect();
+    let out = run_sequential(&frames, target, &Options::default());
+    for (o, f) in out.iter().zip(&frames) {
+        let fresh = vizretarget::retarget(f, target, &Options::default()).unwrap();
+        let far = o
+            .image
+            .pixels()
+            .iter()
+            .zip(fresh.image.pixels())
+            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 48))
+            .count();
+        assert!(
+            far <= 8,
+            "frame {} ({:?}): {far} pixels far from the fresh frame",
+            o.frame_index,
+            o.stats.decision
+        );
+    }
+}

@@ -173,6 +173,10 @@ impl MeshStage {
             && self.rings == rings;
         // Raster marks float only without vector marks (those steer the mesh themselves).
         let floats = points.is_empty() && rings.is_empty();
+        // Under one affine map the mesh is the coarsest and cheap to build again, while an
+        // update would keep text found on an earlier frame: floated over this one, a label
+        // that moved or grew out of its old box would be pasted torn.
+        let rebuild_on_change = self.options.regions == crate::structure::Regions::Affine;
         let decision = if !have {
             Decision::Rebuild
         } else if self.last_vsm.as_ref().is_some_and(|l| Arc::ptr_eq(l, vsm)) {
@@ -214,7 +218,8 @@ impl MeshStage {
             if changed.is_empty() {
                 self.floating = Arc::new(unringed(current, self.mesh.as_ref().expect("have")));
                 Decision::Reuse
-            } else if changed.fraction() > self.reuse.rebuild_fraction
+            } else if rebuild_on_change
+                || changed.fraction() > self.reuse.rebuild_fraction
                 || points.iter().any(|&p| changed.contains(p))
                 || rings.iter().any(|m| {
                     let r = 1.5 * m.ring_radius;
