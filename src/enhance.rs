@@ -191,7 +191,7 @@ const HELD_SALIENCY: f32 = 0.5;
 
 impl Enhancement {
     /// For the solve: `vsm` with every cell of a region or mask area whose factor is not 1
-    /// raised to at least [`HELD_SALIENCY`], or `None` when there is no such area. The size
+    /// raised to at least `HELD_SALIENCY`, or `None` when there is no such area. The size
     /// prior alone acts on a triangle's scale `s_t`, but an empty triangle's shape is held by
     /// its saliency weight, which is tiny (`λ⁴`): its `s_t` follows `δ` while the triangle
     /// itself hardly grows. Then only the marks' own fans grow, and the gaps between them

@@ -10,7 +10,7 @@
 //!   normalized on its own like any VSM, averaged over the output's pixels. Higher means the
 //!   output spends more of its pixels on what the saliency map calls important.
 //! * **saliency carried** (the same figure read as Avidan and Shamir's "preserved energy", the
-//!   paper's ref. [2], from which Fig. 15 takes its measure): the *source's* VSM carried by the
+//!   paper's ref. \[2\], from which Fig. 15 takes its measure): the *source's* VSM carried by the
 //!   mapping, averaged over the output's pixels, `Σ_t Σ_{p∈t} S(p)·det J_t / |out|`. A pixel of
 //!   the output counts what the source pixel it shows was worth, so a method cannot score by
 //!   making edges of its own (aliasing, squeezed strokes); linear scaling keeps the source's

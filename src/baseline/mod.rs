@@ -5,7 +5,7 @@
 //! * [`Method::Crop`]: uniform scaling to cover the target, then the window with the most
 //!   VSM saliency (Fig. 14b);
 //! * [`Method::Grid`]: the uniform-grid scale-and-stretch deformation of Wang et al. 2008, the
-//!   paper's ref. [1] and its Table 1 rival, on the same energy and solver as the mesh;
+//!   paper's ref. \[1\] and its Table 1 rival, on the same energy and solver as the mesh;
 //! * [`Method::Axis`]: axis-aligned deformation (Panozzo et al. 2012): one scale per column
 //!   and per row, so lines stay straight and unbroken;
 //! * [`Method::Seam`]: seam carving (Avidan and Shamir 2007) with forward energy (Rubinstein et

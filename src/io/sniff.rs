@@ -20,7 +20,7 @@ pub const SNIFF_LEN: usize = 12;
 
 pub(crate) const PNG_SIGNATURE: &[u8; 8] = b"\x89PNG\r\n\x1a\n";
 
-/// Recognises `head`, the first bytes of an input (up to [`SNIFF_LEN`]).
+/// Recognises `head`, the first bytes of an input (up to `SNIFF_LEN`).
 pub fn sniff(head: &[u8]) -> Option<Magic> {
     if head.starts_with(b"GIF87a") || head.starts_with(b"GIF89a") {
         Some(Magic::Gif)

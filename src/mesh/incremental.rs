@@ -196,7 +196,7 @@ impl IncrementalMesh {
     /// ringed like the small marks found in `vsm`: each gets its centre and a ring of key
     /// points at its `ring_radius`, lattice points near it are dropped, and a found mark whose
     /// ring overlaps a given one's is dropped (it is the given mark, seen in the map). Given
-    /// rings are outside the ring budget of the found marks, up to [`GIVEN_RING_SHARE`] times
+    /// rings are outside the ring budget of the found marks, up to `GIVEN_RING_SHARE` times
     /// the key point budget (the largest by `pixels` first; the others keep their centres in
     /// `extra` only).
     pub fn build_with_marks(

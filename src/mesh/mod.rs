@@ -1,10 +1,10 @@
 //! The adaptive triangle mesh of §5.1: key points sampled by saliency level, Delaunay
 //! triangulated.
 //!
-//! * [`marks`]: small marks (a dot, a legend symbol, a short label) found as connected blobs;
+//! * `marks`: small marks (a dot, a legend symbol, a short label) found as connected blobs;
 //!   each gets a ring of key points so it sits in triangles of its own, whatever the lattice;
-//! * [`sampling`]: the per-level lattices under the `α` budget (Eq. 7), corners and sides;
-//! * [`triangulate`]: Delaunay by `spade`, plus the topology the solver needs.
+//! * `sampling`: the per-level lattices under the `α` budget (Eq. 7), corners and sides;
+//! * `triangulate`: Delaunay by `spade`, plus the topology the solver needs.
 
 mod incremental;
 mod marks;
@@ -87,7 +87,7 @@ const AFFINE_ALPHA: f32 = 200.0;
 
 impl MeshOptions {
     /// The `α` the key-point budget is drawn with: [`MeshOptions::alpha`], or
-    /// [`AFFINE_ALPHA`] under one affine map.
+    /// `AFFINE_ALPHA` under one affine map.
     pub fn budget_alpha(&self) -> f32 {
         match self.regions {
             crate::structure::Regions::Affine => self.alpha.max(AFFINE_ALPHA),

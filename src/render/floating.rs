@@ -168,9 +168,9 @@ pub struct TextPlacement {
 /// it is anchored where its column is aligned (a legend's labels by their left edge, a y
 /// axis' tick labels by their right edge, anything else by its centre), at the place the
 /// area's map takes that anchor; floating blocks that would overlap each other or hide ink
-/// first step aside (at most [`NUDGE_LINES`] line heights, a row of labels across its line
+/// first step aside (at most `NUDGE_LINES` line heights, a row of labels across its line
 /// and a column along its lines, as one), then are made smaller together, and a block that
-/// would fall below [`MIN_TEXT_FLOAT`] is left to the map. Kept inside the output canvas.
+/// would fall below `MIN_TEXT_FLOAT` is left to the map. Kept inside the output canvas.
 pub fn area_text_placements(
     src: &Image,
     st: &crate::structure::Structure,

@@ -1,10 +1,10 @@
 //! Rendering the warp: every output pixel is inverse-mapped through the deformed triangle that
 //! owns it to the source triangle and sampled there.
 //!
-//! * ownership comes from [`crate::raster`]: exact fixed-point scan conversion, so shared edges
+//! * ownership comes from `crate::raster`: exact fixed-point scan conversion, so shared edges
 //!   leave no cracks and no pixel is drawn twice;
 //! * each triangle's inverse map is affine; along a span it is two additions per pixel;
-//! * [`sample`]: bilinear where the triangle magnifies, a Catmull-Rom filter stretched over the
+//! * `sample`: bilinear where the triangle magnifies, a Catmull-Rom filter stretched over the
 //!   pixel's footprint where it minifies (from a ripmap level past 2×).
 
 mod fill;

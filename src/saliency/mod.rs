@@ -1,14 +1,14 @@
 //! The visual saliency map (VSM) of §4: `S_vsm = S_m + S_d + S_sec`, normalized to `[0, 1]`.
 //!
-//! * [`lab`]: the feature vector `[L, a, b, m]` (Lab plus the mid channel);
-//! * [`frequency_tuned`]: importance `S_m` (Eq. 1–2);
-//! * [`edges`]: Sobel and 7×7 dilation `S_d` (Eq. 3–4);
-//! * [`second_region`]: the second-peak regions `S_sec` (Eq. 5), the SSDC fix;
-//! * [`levels`]: the three saliency levels.
+//! * `lab`: the feature vector `[L, a, b, m]` (Lab plus the mid channel);
+//! * `frequency_tuned`: importance `S_m` (Eq. 1–2);
+//! * `edges`: Sobel and 7×7 dilation `S_d` (Eq. 3–4);
+//! * `second_region`: the second-peak regions `S_sec` (Eq. 5), the SSDC fix;
+//! * `levels`: the three saliency levels.
 //!
 //! Normalization. Each component is scaled to `[0, 1]` by its maximum before the sum, and the sum
-//! by its own maximum, as the paper says; but each divisor has a floor ([`IMPORTANCE_FLOOR`],
-//! [`EDGE_FLOOR`], 1 for the sum) so that a nearly uniform frame, whose largest difference is a
+//! by its own maximum, as the paper says; but each divisor has a floor (`IMPORTANCE_FLOOR`,
+//! `EDGE_FLOOR`, 1 for the sum) so that a nearly uniform frame, whose largest difference is a
 //! barely visible ripple, is not stretched into full saliency.
 
 mod edges;

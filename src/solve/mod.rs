@@ -1,11 +1,11 @@
 //! Mesh resizing (§5.2): the energy, its boundary constraints, the sparse solve and the
 //! fold-over repair, producing a [`Warp`].
 //!
-//! * [`boundary`]: Eq. 10–11 as a layout of unknowns;
-//! * [`weights`]: the triangle saliency `λ_t` of Eq. 9;
-//! * [`energy`]: Eq. 8, 9, 12 (and 13's `δ`) assembled into `H u = b`;
-//! * [`cholesky`]: faer's sparse Cholesky with the symbolic factorization kept per topology;
-//! * [`repair`]: no fold-overs, repaired locally.
+//! * `boundary`: Eq. 10–11 as a layout of unknowns;
+//! * `weights`: the triangle saliency `λ_t` of Eq. 9;
+//! * `energy`: Eq. 8, 9, 12 (and 13's `δ`) assembled into `H u = b`;
+//! * `cholesky`: faer's sparse Cholesky with the symbolic factorization kept per topology;
+//! * `repair`: no fold-overs, repaired locally.
 
 mod boundary;
 mod cholesky;

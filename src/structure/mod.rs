@@ -3,9 +3,9 @@
 //! vertices and edges on them and the solver keeps lines straight and axis-aligned and text
 //! blocks similar (one scale, no shear), which the paper's energy alone does not.
 //!
-//! * [`lines`]: runs of luminance steps along pixel-row and -column boundaries;
-//! * [`text`]: rows of small high-contrast components;
-//! * [`areas`]: data areas, the rectangles bounded by axes, frames, grids or a baseline, where
+//! * `lines`: runs of luminance steps along pixel-row and -column boundaries;
+//! * `text`: rows of small high-contrast components;
+//! * `areas`: data areas, the rectangles bounded by axes, frames, grids or a baseline, where
 //!   the warp is one affine map.
 
 mod areas;

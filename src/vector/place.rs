@@ -108,7 +108,7 @@ impl<'a> MeshMap<'a> {
     }
 
     /// The local scale of the warp over a disc of radius `radius` around `centre`:
-    /// `√|det A|` of the least-squares affine fit to where [`RIM_SAMPLES`] points of its rim
+    /// `√|det A|` of the least-squares affine fit to where `RIM_SAMPLES` points of its rim
     /// go, clamped to [0.1, 10] (1 if it cannot be measured).
     pub fn local_scale(&self, centre: DVec2, radius: f64) -> f64 {
         let rho = radius.max(1.0);
