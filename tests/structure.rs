@@ -742,3 +742,24 @@ fn a_sideways_axis_title_is_found() {
         "tick labels upright: {text:?}"
     );
 }
+
+/// A column of tick labels set close is read upright, never as one sideways "word" (floated
+/// as one block its labels would leave their ticks).
+#[test]
+fn a_dense_tick_column_is_not_sideways_text() {
+    for pitch in [14.0f32, 20.0] {
+        let mut img = Image::filled(Size::new(200, 400).unwrap(), [255; 4]);
+        for i in 0..16 {
+            draw_label(
+                &mut img,
+                40.0,
+                30.0 + pitch * i as f32,
+                14.0,
+                &format!("{}", 150 - 10 * i),
+            );
+        }
+        rect(&mut img, 80, 20, 82, 390, [40, 40, 40, 255]);
+        let text = Structure::detect(img.as_ref()).text;
+        assert!(text.iter().all(|b| !b.sideways), "pitch {pitch}: {text:?}");
+    }
+}

@@ -193,28 +193,23 @@ pub fn area_text_placements(
         if t.sideways {
             return 0.5;
         }
-        // Blocks aligned with `t` by an edge, and of those how many exactly: right-aligned
-        // numbers share their right edges to the pixel, their left ones within a digit's
-        // width of a "1".
+        // Blocks aligned with `t` by an edge (above or below it).
         let column = |edge: fn(&TextBlock) -> u32| {
-            let aligned = text.iter().enumerate().filter(|&(j, o)| {
-                j != i
-                    && !o.sideways
-                    && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
-                    && (o.y0 >= t.y1 || o.y1 <= t.y0)
-            });
-            let (mut near, mut exact) = (0usize, 0usize);
-            for (_, o) in aligned {
-                near += 1;
-                exact += (edge(o) == edge(t)) as usize;
-            }
-            (near, exact)
+            text.iter()
+                .enumerate()
+                .filter(|&(j, o)| {
+                    j != i
+                        && !o.sideways
+                        && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
+                        && (o.y0 >= t.y1 || o.y1 <= t.y0)
+                })
+                .count()
         };
         match (column(|b| b.x0), column(|b| b.x1)) {
-            ((0, _), (0, _)) => 0.5,
+            (0, 0) => 0.5,
             // Both edges aligned (labels of one width): the side facing what they name, the
             // nearer ink, stays put.
-            ((left, _), (right, _)) if left == right => {
+            (left, right) if left == right => {
                 let gap = |dir: i64| {
                     let (y, reach) = ((t.y0 + t.y1) / 2, 4 * t.line_height as i64);
                     let start = if dir > 0 {

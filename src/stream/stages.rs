@@ -194,7 +194,9 @@ impl MeshStage {
             // Small marks, where the mesh rings them and where they are now, do not count
             // as change: a mark that moves or appears floats over the kept warp. Their
             // saliency reaches beyond their box by the VSM's blur, Sobel and dilation.
-            let ignore: Vec<[f64; 4]> = if floats {
+            // Under one affine map nothing is ignored: a label appearing reads as small marks
+            // too, and must be found as text on a rebuild.
+            let ignore: Vec<[f64; 4]> = if floats && !rebuild_on_change {
                 let mesh = self.mesh.as_ref().expect("have");
                 let reach = ((DILATION_RADIUS + 2) as u32 * vsm.scale() + 1) as f64;
                 mesh.marks()

@@ -98,19 +98,18 @@ impl Structure {
         // Text is found among solid lines only: a chain may run along the foot of a word, and
         // clearing a faint line's pixels would cut a texture into glyph-sized pieces.
         let mut text = text::detect(&l, w, h, [&horizontal, &vertical]);
-        for s in rotated_text(&l, w, h, [&horizontal, &vertical]) {
-            // Glyphs of a sideways title also pass, a few at a time, for upright words: the
-            // sideways reading wins where it is longer than any of them is wide.
-            let touch = |u: &TextBlock| !(u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1);
-            if text
-                .iter()
-                .filter(|u| touch(u))
-                .all(|u| u.x1 - u.x0 < s.y1 - s.y0)
-            {
-                text.retain(|u| !touch(u));
-                text.push(s);
-            }
-        }
+        // Sideways text only where nothing upright was read: a column of tick labels set close
+        // also reads as a sideways "word" (and floated as one, its labels would leave their
+        // ticks), so the upright reading wins every conflict, even over a sideways title's
+        // glyphs taken a few at a time for upright words.
+        let sideways: Vec<TextBlock> = rotated_text(&l, w, h, [&horizontal, &vertical])
+            .into_iter()
+            .filter(|s| {
+                text.iter()
+                    .all(|u| u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1)
+            })
+            .collect();
+        text.extend(sideways);
         // A chain or a faint line crossing a text block is the foot or the top of its words.
         let clear = |line: &Line, across: fn(&TextBlock) -> [u32; 4]| {
             text.iter().all(|b| {
