@@ -20,7 +20,8 @@ use std::time::Instant;
 #[derive(Clone, Debug)]
 pub struct Options {
     /// The paper's `α`: the mesh budget is `w·h/α²` key points. Smaller is finer and slower.
-    /// Allowed: 4 to 200; default 20.
+    /// Allowed: 4 to 200; default 20. Under one affine map over the canvas (the default
+    /// regions) the mesh shapes nothing drawn and takes α 200 whatever this says.
     pub alpha: f32,
     /// Energy tuning (see [`EnergyParams`]).
     pub energy: EnergyParams,
@@ -67,16 +68,20 @@ impl Options {
         self
     }
 
-    /// The regions used: [`Options::regions`], except that content enhancement and vector
-    /// marks, which grow or hold marks against their surroundings, ask for the mesh where the
-    /// canvas would otherwise be one affine map (under which nothing can grow):
-    /// [`Regions::Affine`] with either becomes [`Regions::Auto`].
+    /// The regions used: [`Options::regions`] ([`Regions::Free`] without
+    /// [`Options::structure`]), except that content enhancement and vector marks, which grow
+    /// or hold marks against their surroundings, ask for the mesh where the canvas would
+    /// otherwise be one affine map (under which nothing can grow): [`Regions::Affine`] with
+    /// either becomes [`Regions::Auto`].
     ///
     /// [`Regions::Affine`]: crate::structure::Regions::Affine
     /// [`Regions::Auto`]: crate::structure::Regions::Auto
+    /// [`Regions::Free`]: crate::structure::Regions::Free
     pub fn effective_regions(&self) -> crate::structure::Regions {
         use crate::structure::Regions;
         match self.regions {
+            // Without structure nothing is found: the paper's warp everywhere, at its α.
+            _ if !self.structure => Regions::Free,
             Regions::Affine if !self.enhance.is_identity() || self.marks.is_some() => Regions::Auto,
             r => r,
         }
