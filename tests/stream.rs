@@ -511,6 +511,31 @@ fn stage_objects_can_move_between_threads() {
     sendable::<Options>();
 }
 
+/// Each streamed frame is within 8 pixels (more than 48 levels apart) of the same frame
+/// retargeted alone with the default options.
+fn assert_each_frame_is_the_fresh_one(
+    out: &[vizretarget::Retargeted],
+    frames: &[Image],
+    target: Size,
+) {
+    for (o, f) in out.iter().zip(frames) {
+        let fresh = vizretarget::retarget(f, target, &Options::default()).unwrap();
+        let far = o
+            .image
+            .pixels()
+            .iter()
+            .zip(fresh.image.pixels())
+            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 48))
+            .count();
+        assert!(
+            far <= 8,
+            "frame {} ({:?}): {far} pixels far from the fresh frame",
+            o.frame_index,
+            o.stats.decision
+        );
+    }
+}
+
 /// White ground, a static bar chart on the left, and on the right a dot moving, a bubble
 /// growing by a pixel of radius per frame and a bar of the dot's colour.
 fn growing(frame: u32) -> Image {
@@ -566,24 +591,9 @@ fn a_kept_warp_draws_what_a_fresh_frame_draws_and_still_panels_stay_still() {
     let target = Size::new(160, 200).unwrap();
     let frames: Vec<Image> = (0..10).map(growing).collect();
     let out = run_sequential(&frames, target, &Options::default());
-    for (o, f) in out.iter().zip(&frames) {
-        let fresh = vizretarget::retarget(f, target, &Options::default()).unwrap();
-        let far = o
-            .image
-            .pixels()
-            .iter()
-            .zip(fresh.image.pixels())
-            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 48))
-            .count();
-        // A handful for a subpixel of rounding; a dot pasted at its own size where the fresh
-        // frame squeezes it is 60.
-        assert!(
-            far <= 8,
-            "frame {} ({:?}): {far} pixels far from the fresh frame",
-            o.frame_index,
-            o.stats.decision
-        );
-    }
+    // A handful of pixels for a subpixel of rounding; a dot pasted at its own size where the
+    // fresh frame squeezes it is 60.
+    assert_each_frame_is_the_fresh_one(&out, &frames, target);
     // The bar chart is the left 60 output columns; the dots never come within the
     // resampler's reach of it.
     for o in &out[1..] {
@@ -637,20 +647,5 @@ fn changing_text_is_found_afresh() {
     };
     let frames: Vec<Image> = (0..8).map(frame).collect();
     let out = run_sequential(&frames, target, &Options::default());
-    for (o, f) in out.iter().zip(&frames) {
-        let fresh = vizretarget::retarget(f, target, &Options::default()).unwrap();
-        let far = o
-            .image
-            .pixels()
-            .iter()
-            .zip(fresh.image.pixels())
-            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 48))
-            .count();
-        assert!(
-            far <= 8,
-            "frame {} ({:?}): {far} pixels far from the fresh frame",
-            o.frame_index,
-            o.stats.decision
-        );
-    }
+    assert_each_frame_is_the_fresh_one(&out, &frames, target);
 }

@@ -236,6 +236,8 @@ pub fn area_text_placements(
             _ => 0.0,
         }
     };
+    // Found once: `placed` runs for every trial place and scale.
+    let anchors: Vec<f64> = (0..text.len()).map(anchor).collect();
     let (tw, th) = (target.width as f64, target.height as f64);
     // Output box of block i at scale s, moved by `shift[i]` (None: not in an area with a map).
     let mut shift = vec![DVec2::ZERO; text.len()];
@@ -243,7 +245,7 @@ pub fn area_text_placements(
         let t = &text[i];
         let [ax, bx, ay, by] = (*maps.get(area_of(t)?)?)?;
         let (x0, x1, y0, y1) = (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64);
-        let k = anchor(i);
+        let k = anchors[i];
         let ax_src = x0 + k * (x1 - x0);
         let (w, h) = (s * (x1 - x0), s * (y1 - y0));
         let left = (ax * ax_src + bx - k * w + d.x).clamp(0.0, (tw - w).max(0.0));
