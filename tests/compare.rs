@@ -91,16 +91,18 @@ fn crop_holding_all_marks_keeps_everything() {
     assert!(close(m.saliency_kept, 1.0, 0.05), "{m:?}");
 }
 
-/// The same size through the mesh is the identity: no distortion, all area kept.
+/// The same size through the mesh is the identity: no distortion, all area kept (the paper's
+/// warp, which has a mesh to measure; the default's one linear map is checked below).
 #[test]
 fn mesh_at_the_same_size_measures_as_the_identity() {
     let img = scatter(200, 120, 3);
-    let out = retarget_with(Method::Mesh, &img, img.size(), &Options::default()).unwrap();
+    let options = Options::default().with_regions(Regions::Free);
+    let out = retarget_with(Method::Mesh, &img, img.size(), &options).unwrap();
     let m = measure(&img, &out);
     assert!(m.distortion.unwrap() < 1e-3, "{m:?}");
     assert!(close(m.salient_area_kept.unwrap(), 1.0, 1e-3), "{m:?}");
     assert!(close(m.saliency_kept, 1.0, 1e-6), "{m:?}");
-    let src_mean = compare_methods(&img, img.size(), &Options::default(), &[Method::Mesh])
+    let src_mean = compare_methods(&img, img.size(), &options, &[Method::Mesh])
         .unwrap()
         .metrics
         .source_saliency_mean;
@@ -109,6 +111,28 @@ fn mesh_at_the_same_size_measures_as_the_identity() {
         "{m:?}"
     );
     assert!(m.vertices.unwrap() > 4 && m.dof.unwrap() > 0);
+}
+
+/// The default takes the canvas whole: its mesh is the canvas's two triangles, nothing is
+/// solved, and it is measured as the linear map it is (at half width: a similarity deviation
+/// of a linear squeeze, all salient content kept at half its area).
+#[test]
+fn the_default_measures_as_one_linear_map() {
+    let img = scatter(200, 120, 3);
+    let out = retarget_with(Method::Mesh, &img, size(100, 120), &Options::default()).unwrap();
+    assert!(matches!(out.mapping, Mapping::Affine { .. }));
+    assert_eq!(
+        (out.stats.vertices, out.stats.triangles, out.stats.dof),
+        (Some(4), Some(2), Some(0))
+    );
+    let m = measure(&img, &out);
+    let linear = measure(
+        &img,
+        &retarget_with(Method::Linear, &img, size(100, 120), &Options::default()).unwrap(),
+    );
+    assert_eq!(m.distortion, linear.distortion);
+    assert_eq!(m.salient_area_kept, linear.salient_area_kept);
+    assert!(m.distortion.unwrap() > 0.1, "{m:?}");
 }
 
 /// Seam carving that removes only empty columns keeps every salient pixel, undistorted.

@@ -180,9 +180,22 @@ fn mesh_method(image: &Image, target: Size, options: &Options) -> Result<MethodO
             folds_first_solve: Some(out.stats.solve.folds_first_solve),
             times: out.stats.times,
         },
-        mapping: Mapping::Warp {
-            mesh: analysis.mesh,
-            warp: analysis.warp,
+        // A canvas taken whole is resampled as a plain resize: measured as that map (its
+        // mesh is the two triangles of the canvas, too coarse to tell salient ones apart).
+        mapping: if analysis
+            .mesh
+            .structure()
+            .is_some_and(crate::structure::Structure::whole_canvas)
+        {
+            let s = image.size();
+            Mapping::Affine {
+                window: [0.0, 0.0, s.width as f64, s.height as f64],
+            }
+        } else {
+            Mapping::Warp {
+                mesh: analysis.mesh,
+                warp: analysis.warp,
+            }
         },
         vsm: Some(analysis.vsm),
     })

@@ -193,7 +193,7 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
         s.solve.text_blocks,
         s.solve.text_held,
         s.solve.snapped,
-        if s.solve.fans_held {
+        if s.solve.fans_held || s.solve.unknowns == 0 {
             ""
         } else {
             "; marks' fans not held rigid (they left folds)"

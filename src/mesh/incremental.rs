@@ -4,7 +4,7 @@
 
 use super::marks::{find_marks, Mark};
 use super::sampling::{sample_key_points, KeyPointKind, RING_EXCLUSION, RING_POINTS};
-use super::skeleton::{crowds, skeleton};
+use super::skeleton::{as_used, crowds, skeleton};
 use super::Role;
 use super::{Mesh, MeshOptions};
 use crate::image::Size;
@@ -302,6 +302,30 @@ impl IncrementalMesh {
             next_id,
             structure: sk.map(|sk| Arc::new(sk.structure)),
             roles,
+        };
+        let mesh = inc.to_mesh();
+        (inc, mesh)
+    }
+
+    /// The mesh of a canvas taken whole as one data area ([`Structure::whole_canvas`]): its
+    /// two triangles. There the warp is the canvas's one linear map, which the corners alone
+    /// carry, and the canvas is resampled as a plain resize: key points would shape nothing
+    /// drawn, and sampling, triangulating and solving them cost most of a frame. The
+    /// structure rides along for what floats over the resize (text, marks).
+    pub fn canvas(size: Size, structure: &Structure, first_id: u64) -> (IncrementalMesh, Mesh) {
+        let input: Vec<KeyVertex> = corners(size)
+            .into_iter()
+            .zip(first_id..)
+            .map(|(p, id)| key(p, size, id))
+            .collect();
+        let tri = ConstrainedDelaunayTriangulation::bulk_load(input).unwrap_or_default();
+        let inc = IncrementalMesh {
+            tri,
+            size,
+            marks: Vec::new(),
+            next_id: first_id + 4,
+            structure: Some(Arc::new(as_used(structure, size))),
+            roles: HashMap::new(),
         };
         let mesh = inc.to_mesh();
         (inc, mesh)

@@ -27,15 +27,15 @@ pub(crate) struct Skeleton {
     pub structure: Structure,
 }
 
-/// The skeleton of `s` on a `size` canvas, with key points every `step` px along lines.
-pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
+/// The structure as the mesh uses it: text blocks with a pixel of margin (their glyphs'
+/// antialiased rims), kept two pixels from the border, those too small left out; lines near
+/// the border left to the border.
+pub(crate) fn as_used(s: &Structure, size: Size) -> Structure {
     let (w, h) = (size.width as f64, size.height as f64);
-    let step = step.max(8.0);
-    let blocks: Vec<TextBlock> = s
+    let text: Vec<TextBlock> = s
         .text
         .iter()
         .filter_map(|b| {
-            // One pixel of margin, kept two pixels from the border.
             let x0 = (b.x0 as f64 - 1.0).max(2.0);
             let y0 = (b.y0 as f64 - 1.0).max(2.0);
             let x1 = (b.x1 as f64 + 1.0).min(w - 2.0);
@@ -50,6 +50,31 @@ pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
             })
         })
         .collect();
+    let keep_line = |l: &&Line, extent: f64| l.pos > BORDER_PX && l.pos < extent - BORDER_PX;
+    Structure {
+        horizontal: s
+            .horizontal
+            .iter()
+            .filter(|l| keep_line(l, h))
+            .copied()
+            .collect(),
+        vertical: s
+            .vertical
+            .iter()
+            .filter(|l| keep_line(l, w))
+            .copied()
+            .collect(),
+        text,
+        areas: s.areas.clone(),
+    }
+}
+
+/// The skeleton of `s` on a `size` canvas, with key points every `step` px along lines.
+pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
+    let (w, h) = (size.width as f64, size.height as f64);
+    let step = step.max(8.0);
+    let used = as_used(s, size);
+    let blocks = &used.text;
     let inside_block = |p: DVec2, margin: f64| {
         blocks.iter().any(|b| {
             p.x > b.x0 as f64 - margin
@@ -58,19 +83,7 @@ pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
                 && p.y < b.y1 as f64 + margin
         })
     };
-    let keep_line = |l: &Line, extent: f64| l.pos > BORDER_PX && l.pos < extent - BORDER_PX;
-    let horizontal: Vec<Line> = s
-        .horizontal
-        .iter()
-        .filter(|l| keep_line(l, h))
-        .copied()
-        .collect();
-    let vertical: Vec<Line> = s
-        .vertical
-        .iter()
-        .filter(|l| keep_line(l, w))
-        .copied()
-        .collect();
+    let (horizontal, vertical) = (&used.horizontal, &used.vertical);
 
     let mut index: HashMap<(u64, u64), usize> = HashMap::new();
     let mut sk = Skeleton::default();
@@ -216,12 +229,7 @@ pub(crate) fn skeleton(s: &Structure, size: Size, step: f64) -> Skeleton {
             }
         }
     }
-    sk.structure = Structure {
-        horizontal,
-        vertical,
-        text: blocks,
-        areas: s.areas.clone(),
-    };
+    sk.structure = used;
     sk
 }
 

@@ -114,6 +114,13 @@ impl Warp {
         st.areas
             .iter()
             .map(|a| {
+                // A canvas taken whole is resampled by the plain resize's map: what floats over
+                // it goes where that map takes it, not where a fit to snapped vertices would.
+                if a.kind == crate::structure::AreaKind::Canvas {
+                    let (w, h) = (mesh.size().width as f64, mesh.size().height as f64);
+                    let t = self.target;
+                    return Some([t.width as f64 / w, 0.0, t.height as f64 / h, 0.0]);
+                }
                 let inside = mesh.vertices().iter().enumerate().filter(|&(i, p)| {
                     a.contains(p.x, p.y, 0.0)
                         && roles.get(i).is_none_or(|r| r.block.is_none())

@@ -13,7 +13,6 @@ use crate::raster::snap;
 use crate::render::{Floating, MaskKind, Renderer};
 use crate::saliency::{Rect, Vsm, VsmBuilder, DILATION_RADIUS};
 use crate::solve::{EnergyParams, SalientFit, SolveStats, Solver, Warp};
-use crate::structure::AreaKind;
 use crate::structure::Structure;
 use glam::DVec2;
 use std::collections::{HashMap, HashSet};
@@ -183,7 +182,10 @@ impl MeshStage {
             Decision::Reuse
         } else {
             let inc = self.inc.as_ref().expect("have");
-            let current: Vec<Mark> = if floats {
+            // On a canvas taken whole no stream mark floats over a kept warp (each frame is
+            // resampled and its floats found afresh): there is nothing to find.
+            let canvas = inc.structure().is_some_and(Structure::whole_canvas);
+            let current: Vec<Mark> = if floats && !canvas {
                 find_marks(vsm)
                     .into_iter()
                     .filter(|m| !inc.in_text(m.center))
@@ -254,14 +256,19 @@ impl MeshStage {
             let structure = self
                 .structure
                 .then(|| Structure::detect_with(image.as_ref(), self.options.regions));
-            let (inc, mesh) = IncrementalMesh::build_with_marks(
-                vsm,
-                structure.as_ref(),
-                points,
-                rings,
-                &self.options,
-                self.next_id,
-            );
+            let (inc, mesh) = match structure {
+                Some(s) if s.whole_canvas() && points.is_empty() && rings.is_empty() => {
+                    IncrementalMesh::canvas(size, &s, self.next_id)
+                }
+                s => IncrementalMesh::build_with_marks(
+                    vsm,
+                    s.as_ref(),
+                    points,
+                    rings,
+                    &self.options,
+                    self.next_id,
+                ),
+            };
             self.points = points.to_vec();
             self.rings = rings.to_vec();
             self.next_id = inc.next_id();
@@ -351,6 +358,20 @@ impl SolveStage {
                     });
                 }
             }
+        }
+        // A canvas taken whole has one linear map: nothing to solve (its text floats).
+        let canvas = mesh.structure().filter(|s| s.whole_canvas());
+        if let (None, Some(s)) = (&self.enhance, canvas) {
+            let warp = Arc::new(Warp::linear(mesh, self.target));
+            self.prev = Some((mesh.clone(), warp.clone()));
+            return Ok(Solved {
+                warp,
+                stats: SolveStats {
+                    text_blocks: s.text.len(),
+                    ..SolveStats::default()
+                },
+                decision: Decision::Rebuild,
+            });
         }
         if m.decision == Decision::Update && self.enhance.is_none() {
             if let Some((pm, pw)) = &self.prev {
@@ -561,9 +582,7 @@ impl RenderStage {
         // ([`crate::render::resize_linear`]), with none of the crisp-line work that only a
         // bending warp needs (judged blind, its notches and specks were the defects left once
         // nothing bent).
-        let whole_canvas = mesh
-            .structure()
-            .is_some_and(|s| s.areas.iter().any(|a| a.kind == AreaKind::Canvas));
+        let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
         let unchanged = usable.is_some_and(|p| {
             Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
         });
@@ -672,9 +691,7 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
     // there are none: it is resampled afresh from each frame, and its floats are found
     // afresh too, so a kept mesh changes nothing drawn (a stream mark pasted at its own size
     // there is one a fresh frame would draw squeezed).
-    let whole_canvas = mesh
-        .structure()
-        .is_some_and(|s| s.areas.iter().any(|a| a.kind == AreaKind::Canvas));
+    let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
     let loose: Vec<Mark> = if whole_canvas {
         Vec::new()
     } else {

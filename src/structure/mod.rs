@@ -178,6 +178,12 @@ impl Structure {
         })
     }
 
+    /// The whole canvas is one data area ([`Regions::Affine`]): it is resampled as a plain
+    /// linear resize, and only what floats over it needs the structure.
+    pub fn whole_canvas(&self) -> bool {
+        self.areas.iter().any(|a| a.kind == AreaKind::Canvas)
+    }
+
     /// Nothing found.
     pub fn is_empty(&self) -> bool {
         self.horizontal.is_empty()
