@@ -306,6 +306,20 @@ fn words_keep_their_letters_without_stems() {
     }
 }
 
+/// A legend's swatch is no part of its label: its top and bottom edges are found as lines
+/// and cleared, which leaves its left and right edges as glyph-sized strokes, but the fill
+/// beside them shows them for the rims of a shape (joined to the label, a sliver of the
+/// swatch would float with it and its fill be smeared into the label's place).
+#[test]
+fn a_swatch_edge_is_no_glyph() {
+    let mut img = Image::filled(Size::new(400, 60).unwrap(), [238, 238, 238, 255]);
+    rect(&mut img, 35, 20, 93, 40, [150, 60, 60, 255]);
+    draw_label(&mut img, 112.0, 16.0, 26.0, "Democratic (48%)");
+    let blocks = Structure::detect(img.as_ref()).text;
+    assert_eq!(blocks.len(), 1, "{blocks:?}");
+    assert!(blocks[0].x0 >= 100, "{blocks:?}");
+}
+
 /// `--debug-dir` shows what was found and what became of it: the pictures, and in
 /// structure.json the lines, the text blocks and where the warp put each block, at one scale
 /// no larger than 1 on a narrower canvas, inside the output.

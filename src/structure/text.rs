@@ -32,6 +32,9 @@ const MAX_ASPECT: u32 = 14;
 /// (a dot, a waffle cell, a legend swatch) is ink to its edges (0.6 to 0.8 of its box, which
 /// is one pixel of halo wider).
 const MAX_INK: f32 = 0.5;
+/// Least ratio of height to width of a component taken for a glyph's lone stem whatever its
+/// ink: an "l" of heavy type with its one-pixel halo is still three times as tall as wide.
+const STEM_ASPECT: u32 = 3;
 /// Densest component taken for merged letters (bold type set tight), if at least twice as wide
 /// as tall: a legend swatch, as wide, is ink to its edges (above 0.7).
 const MAX_INK_MERGED: f32 = 0.62;
@@ -74,15 +77,25 @@ pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<T
     clear_lines(&mut stroke, w, h, lines);
     let mut glyphs = Vec::new();
     for mut c in components(&stroke, w, h) {
-        let stems = glyph_ink(l, w, &mut c);
+        let bg = ground(l, w, &c);
+        if rims_a_fill(l, w, h, &c, bg) {
+            continue;
+        }
+        let stems = glyph_ink(l, w, bg, &mut c);
         if c.ink <= MAX_INK {
             glyphs.push((c, stems));
+        } else if c.w() * STEM_ASPECT <= c.h() {
+            // A lone stem ("i", "l", "1", "I"): a bar of ink as dense as a filled shape, but
+            // narrow as no dot, cell or swatch is. It joins a word beside it as a glyph without
+            // stems would, never makes a line with other stems alone (thin bars in a row).
+            glyphs.push((c, false));
         } else if c.ink <= MAX_INK_MERGED && c.w() >= 2 * c.h() {
             // Letters of a bold word merged into one component ("uce" of "dairy-produce"):
             // denser than a glyph, wider than a dot or a cell. It joins a word beside it as a
             // glyph without stems would, never makes a line alone.
             glyphs.push((c, false));
-        } else if c.ink <= MAX_INK_HOLED && c.h() >= MIN_DISPLAY_H && encloses_ground(l, w, &c) {
+        } else if c.ink <= MAX_INK_HOLED && c.h() >= MIN_DISPLAY_H && encloses_ground(l, w, bg, &c)
+        {
             // A bold glyph of display type with a counter ("8", "9", "e", "a" of a big value
             // in a dashboard's tile): as dense as a swatch, but ground lies inside it, as it
             // never does inside a filled dot, cell or swatch, nor between the cells of a
@@ -223,18 +236,7 @@ fn clear_lines(mask: &mut [bool], w: usize, h: usize, [horizontal, vertical]: [&
 /// Whether a component holds glyph stems: a vertical run of ink at least 40 % of its height
 /// (and 4 px). Letters and digits have them; a cluster of dots (a dot-matrix map, a dotted
 /// line) does not, however its dots line up. Records the component's share of ink.
-fn glyph_ink(l: &[u8], w: usize, c: &mut Comp) -> bool {
-    // Background: the most common luminance on the box's border.
-    let mut hist = [0u32; 256];
-    for x in c.x0..c.x1 {
-        hist[l[c.y0 as usize * w + x as usize] as usize] += 1;
-        hist[l[(c.y1 - 1) as usize * w + x as usize] as usize] += 1;
-    }
-    for y in c.y0..c.y1 {
-        hist[l[y as usize * w + c.x0 as usize] as usize] += 1;
-        hist[l[y as usize * w + (c.x1 - 1) as usize] as usize] += 1;
-    }
-    let bg = (0..256).max_by_key(|&v| hist[v]).unwrap_or(0) as i16;
+fn glyph_ink(l: &[u8], w: usize, bg: i16, c: &mut Comp) -> bool {
     let need = (c.h() * 2 / 5).max(4);
     let mut stems = false;
     let mut ink = 0u32;
@@ -254,25 +256,47 @@ fn glyph_ink(l: &[u8], w: usize, c: &mut Comp) -> bool {
     stems
 }
 
+/// The ground a component lies on: the most common luminance on its box's border.
+fn ground(l: &[u8], w: usize, c: &Comp) -> i16 {
+    let mut hist = [0u32; 256];
+    for x in c.x0..c.x1 {
+        hist[l[c.y0 as usize * w + x as usize] as usize] += 1;
+        hist[l[(c.y1 - 1) as usize * w + x as usize] as usize] += 1;
+    }
+    for y in c.y0..c.y1 {
+        hist[l[y as usize * w + c.x0 as usize] as usize] += 1;
+        hist[l[y as usize * w + (c.x1 - 1) as usize] as usize] += 1;
+    }
+    (0..256).max_by_key(|&v| hist[v]).unwrap_or(0) as i16
+}
+
+/// Whether the component is the rim of a filled shape: along most of one side, the pixels
+/// just outside its box are ink. A glyph's stroke pixels take in the ground around its ink,
+/// so ground lies beyond its box on every side; a legend swatch whose top and bottom edges
+/// were cleared as lines leaves its left and right edges as glyph-sized strokes, with the
+/// swatch's fill beside them (joined to the label next to it, a sliver of the swatch would
+/// float with the label's text).
+fn rims_a_fill(l: &[u8], w: usize, h: usize, c: &Comp, bg: i16) -> bool {
+    let ink =
+        |x: u32, y: u32| (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16;
+    let most = |n: usize, of: u32| 2 * n > of as usize;
+    let column = |x: u32| most((c.y0..c.y1).filter(|&y| ink(x, y)).count(), c.h());
+    let row = |y: u32| most((c.x0..c.x1).filter(|&x| ink(x, y)).count(), c.w());
+    (c.x0 > 0 && column(c.x0 - 1))
+        || ((c.x1 as usize) < w && column(c.x1))
+        || (c.y0 > 0 && row(c.y0 - 1))
+        || ((c.y1 as usize) < h && row(c.y1))
+}
+
 /// Whether the component's box holds ground enclosed by ink (a counter, at least
-/// [`MIN_COUNTER_PX`]): ground pixels (as in [`glyph_ink`]) that a 4-connected fill from the
+/// [`MIN_COUNTER_PX`]): pixels near the ground level `bg` ([`ground`]) that a 4-connected fill from the
 /// box's border does not reach.
-fn encloses_ground(l: &[u8], w: usize, c: &Comp) -> bool {
+fn encloses_ground(l: &[u8], w: usize, bg: i16, c: &Comp) -> bool {
     let (bw, bh) = (c.w() as usize, c.h() as usize);
     if bw < 3 || bh < 3 {
         return false;
     }
     let px = |x: usize, y: usize| l[(c.y0 as usize + y) * w + c.x0 as usize + x];
-    let mut hist = [0u32; 256];
-    for x in 0..bw {
-        hist[px(x, 0) as usize] += 1;
-        hist[px(x, bh - 1) as usize] += 1;
-    }
-    for y in 0..bh {
-        hist[px(0, y) as usize] += 1;
-        hist[px(bw - 1, y) as usize] += 1;
-    }
-    let bg = (0..256).max_by_key(|&v| hist[v]).unwrap_or(0) as i16;
     let ground: Vec<bool> = (0..bh)
         .flat_map(|y| (0..bw).map(move |x| (x, y)))
         .map(|(x, y)| (px(x, y) as i16 - bg).abs() <= STROKE_RANGE as i16)
@@ -457,6 +481,41 @@ mod tests {
         let blocks = detect(&l, w, h, [&[], &[]]);
         assert_eq!(blocks.len(), 1, "{blocks:?}");
         assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 60, "{blocks:?}");
+    }
+
+    /// `stems` bars `width` wide and 14 tall, their left edges at `xs`, on white.
+    fn bars(xs: &[usize], width: usize) -> (Vec<u8>, usize, usize) {
+        let (w, h) = (160, 60);
+        let mut l = vec![255u8; w * h];
+        for &x0 in xs {
+            for y in 20..34 {
+                l[y * w + x0..y * w + x0 + width].fill(0);
+            }
+        }
+        (l, w, h)
+    }
+
+    /// The "i" of heavy type between two words: a 3-px stem, denser (0.53 of its box with
+    /// the halo) than any glyph, joins the word it stands in.
+    #[test]
+    fn a_heavy_lone_stem_joins_its_word() {
+        let (l, w, h) = bars(&[10, 15, 20, 25, 48, 53, 58, 63], 2);
+        let without = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(without.len(), 2, "two words 21 px apart: {without:?}");
+        let (mut l, w, h) = (l, w, h);
+        for y in 20..34 {
+            l[y * w + 36..y * w + 39].fill(0);
+        }
+        let blocks = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(blocks.len(), 1, "{blocks:?}");
+        assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 65, "{blocks:?}");
+    }
+
+    /// Thin bars in a row (a histogram's narrow bins) are stems without a word: no text.
+    #[test]
+    fn a_row_of_thin_bars_is_not_text() {
+        let (l, w, h) = bars(&[10, 18, 26, 34, 42, 50], 4);
+        assert_eq!(detect(&l, w, h, [&[], &[]]), vec![]);
     }
 
     /// A filled swatch beside a word (a legend's) stays out of it, as does a dense square.
