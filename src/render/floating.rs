@@ -116,8 +116,14 @@ pub(crate) enum MaskKind {
     Whole,
 }
 
-/// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks).
+/// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks)
+/// wherever the area's ground lies: importance is a colour's distance from the frame's mean,
+/// so where the ground is far from it, marks may be too.
 const AREA_MARK_IMPORTANCE: f32 = 0.5;
+/// Importance above the area's ground (its median cell) from which a pixel belongs to a mark
+/// all the same: a pale mark on a ground near the frame's mean colour (a cyan dot on a light
+/// sea) is a mark, though nearer that mean than the strongest colours.
+const MARK_ABOVE_GROUND: f32 = 0.2;
 /// Largest mark of a data area, as a share of the area's shorter side: a bubble may be
 /// large, but a blob spanning much of the plot is a region (an area fill, a band).
 const AREA_MARK_SHARE: f64 = 0.35;
@@ -711,106 +717,125 @@ pub(crate) fn area_marks(
         let r0 = ((a.y0 / s).floor() as usize + 1).min(gh);
         let r1 = ((a.y1 / s).ceil() as usize).saturating_sub(1).min(gh);
         let max_side = AREA_MARK_SHARE * (a.x1 - a.x0).min(a.y1 - a.y0);
-        for r in r0..r1 {
-            for c in c0..c1 {
-                let start = r * gw + c;
-                if seen[start] || imp[start] < AREA_MARK_IMPORTANCE {
-                    continue;
-                }
-                // One colour: a line chart's markers stand apart from the line through them.
-                let colour = cell_colour(src, s, start % gw, start / gw);
-                seen[start] = true;
-                stack.push(start);
-                let (mut x0, mut y0, mut x1, mut y1) = (c, r, c + 1, r + 1);
-                let mut cells = 0usize;
-                let (mut sum_x, mut sum_y) = (0.0f64, 0.0f64);
-                while let Some(i) = stack.pop() {
-                    let (x, y) = (i % gw, i / gw);
-                    cells += 1;
-                    (sum_x, sum_y) = (sum_x + x as f64 + 0.5, sum_y + y as f64 + 0.5);
-                    (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
-                    for (dx, dy) in [
-                        (-1i64, 0i64),
-                        (1, 0),
-                        (0, -1),
-                        (0, 1),
-                        (-1, -1),
-                        (1, 1),
-                        (-1, 1),
-                        (1, -1),
-                    ] {
-                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                        if nx < c0 as i64 || ny < r0 as i64 || nx >= c1 as i64 || ny >= r1 as i64 {
-                            continue;
-                        }
-                        let j = ny as usize * gw + nx as usize;
-                        if !seen[j]
-                            && imp[j] >= AREA_MARK_IMPORTANCE
-                            && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
-                        {
-                            seen[j] = true;
-                            stack.push(j);
+        // Marks of strong colours first; then, of colours none of those has, pale marks on a
+        // ground near the frame's mean (a cyan dot on a light sea). A strong colour's pale
+        // shades (a bubble's translucent overlap, its antialiased rim) are its business.
+        let pale = (median_importance(imp, gw, [c0, r0, c1, r1]) + MARK_ABOVE_GROUND)
+            .min(AREA_MARK_IMPORTANCE);
+        let mut strong: Vec<[u8; 3]> = Vec::new();
+        for least in [AREA_MARK_IMPORTANCE, pale] {
+            let pass_pale = least < AREA_MARK_IMPORTANCE;
+            for r in r0..r1 {
+                for c in c0..c1 {
+                    let start = r * gw + c;
+                    if seen[start] || imp[start] < least {
+                        continue;
+                    }
+                    // One colour: a line chart's markers stand apart from the line through them.
+                    let colour = cell_colour(src, s, start % gw, start / gw);
+                    if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
+                        continue;
+                    }
+                    if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
+                        strong.push(colour);
+                    }
+                    seen[start] = true;
+                    stack.push(start);
+                    let (mut x0, mut y0, mut x1, mut y1) = (c, r, c + 1, r + 1);
+                    let mut cells = 0usize;
+                    let (mut sum_x, mut sum_y) = (0.0f64, 0.0f64);
+                    while let Some(i) = stack.pop() {
+                        let (x, y) = (i % gw, i / gw);
+                        cells += 1;
+                        (sum_x, sum_y) = (sum_x + x as f64 + 0.5, sum_y + y as f64 + 0.5);
+                        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
+                        for (dx, dy) in [
+                            (-1i64, 0i64),
+                            (1, 0),
+                            (0, -1),
+                            (0, 1),
+                            (-1, -1),
+                            (1, 1),
+                            (-1, 1),
+                            (1, -1),
+                        ] {
+                            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                            if nx < c0 as i64
+                                || ny < r0 as i64
+                                || nx >= c1 as i64
+                                || ny >= r1 as i64
+                            {
+                                continue;
+                            }
+                            let j = ny as usize * gw + nx as usize;
+                            if !seen[j]
+                                && imp[j] >= least
+                                && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
+                            {
+                                seen[j] = true;
+                                stack.push(j);
+                            }
                         }
                     }
-                }
-                let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
-                let bbox = ink_box(
-                    src,
-                    [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
-                    colour,
-                    s.ceil() as u32 + RIM_PX,
-                );
-                let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
-                let fill = cells as f64 / ((x1 - x0) * (y1 - y0)) as f64;
-                let in_text = text.iter().any(|t| {
-                    (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
-                });
-                // Round marks only (a disc, a ring, a symbol about as wide as tall, its ink
-                // centred in its box): a shape that is not may be anything (a group of cells,
-                // a piece of a map) and follows the map, as a linear resize would draw it.
-                let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
-                let (mx, my) = (sum_x / cells as f64, sum_y / cells as f64);
-                let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
-                    && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
-                let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
-                    && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred));
-                // Specks, text and what the canvas' edge cuts say nothing of a colour.
-                if touches || in_text || bw.max(bh) < 3.0 {
-                    continue;
-                }
-                let grown = [
-                    bbox[0].saturating_sub(RIM_PX + 1),
-                    bbox[1].saturating_sub(RIM_PX + 1),
-                    bbox[2] + RIM_PX + 1,
-                    bbox[3] + RIM_PX + 1,
-                ];
-                // A blob a few cells across is a filled square at cell resolution, whatever
-                // its shape: only a larger one can be told for a rectangle.
-                let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
-                if !round
-                    || bw.max(bh) > max_side
-                    || rectangle
-                    || (whole_canvas && !stands_alone(src, grown, colour))
-                {
-                    if whole_canvas {
-                        spoiled.push(colour);
+                    let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
+                    let bbox = ink_box(
+                        src,
+                        [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
+                        colour,
+                        s.ceil() as u32 + RIM_PX,
+                    );
+                    let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
+                    let fill = cells as f64 / ((x1 - x0) * (y1 - y0)) as f64;
+                    let in_text = text.iter().any(|t| {
+                        (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
+                    });
+                    // Round marks only (a disc, a ring, a symbol about as wide as tall, its ink
+                    // centred in its box): a shape that is not may be anything (a group of cells,
+                    // a piece of a map) and follows the map, as a linear resize would draw it.
+                    let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
+                    let (mx, my) = (sum_x / cells as f64, sum_y / cells as f64);
+                    let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
+                        && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
+                    let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
+                        && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred));
+                    // Specks, text and what the canvas' edge cuts say nothing of a colour.
+                    if touches || in_text || bw.max(bh) < 3.0 {
+                        continue;
                     }
-                    continue;
+                    let grown = [
+                        bbox[0].saturating_sub(RIM_PX + 1),
+                        bbox[1].saturating_sub(RIM_PX + 1),
+                        bbox[2] + RIM_PX + 1,
+                        bbox[3] + RIM_PX + 1,
+                    ];
+                    // A blob a few cells across is a filled square at cell resolution, whatever
+                    // its shape: only a larger one can be told for a rectangle.
+                    let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
+                    if !round
+                        || bw.max(bh) > max_side
+                        || rectangle
+                        || (whole_canvas && !stands_alone(src, grown, colour))
+                    {
+                        if whole_canvas {
+                            spoiled.push(colour);
+                        }
+                        continue;
+                    }
+                    let centre = DVec2::new(
+                        (bbox[0] + bbox[2]) as f64 / 2.0,
+                        (bbox[1] + bbox[3]) as f64 / 2.0,
+                    );
+                    out.push((
+                        Mark {
+                            center: centre,
+                            ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
+                            bbox,
+                            pixels: (cells as f64 * s * s) as u32,
+                        },
+                        k,
+                        colour,
+                    ));
                 }
-                let centre = DVec2::new(
-                    (bbox[0] + bbox[2]) as f64 / 2.0,
-                    (bbox[1] + bbox[3]) as f64 / 2.0,
-                );
-                out.push((
-                    Mark {
-                        center: centre,
-                        ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
-                        bbox,
-                        pixels: (cells as f64 * s * s) as u32,
-                    },
-                    k,
-                    colour,
-                ));
             }
         }
         if whole_canvas {
@@ -831,6 +856,27 @@ const SAME_COLOUR: i32 = 60;
 fn same_colour(a: [u8; 3], b: [u8; 3]) -> bool {
     let d: i32 = (0..3).map(|c| (a[c] as i32 - b[c] as i32).pow(2)).sum();
     d < SAME_COLOUR * SAME_COLOUR
+}
+
+/// The median importance of the cells `[c0, c1) × [r0, r1)` of a map `gw` cells wide (to a
+/// 256th), 0 for no cells.
+fn median_importance(imp: &[f32], gw: usize, [c0, r0, c1, r1]: [usize; 4]) -> f32 {
+    let mut hist = [0u32; 256];
+    let mut n = 0u32;
+    for r in r0..r1 {
+        for &v in &imp[r * gw + c0..r * gw + c1.max(c0)] {
+            hist[(v.clamp(0.0, 1.0) * 255.0) as usize] += 1;
+            n += 1;
+        }
+    }
+    let mut below = 0;
+    for (i, &k) in hist.iter().enumerate() {
+        below += k;
+        if 2 * below > n {
+            return i as f32 / 255.0;
+        }
+    }
+    0.0
 }
 
 /// The source colour at the centre of VSM cell `(x, y)` (cells are `s` pixels wide).
