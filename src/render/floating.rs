@@ -710,7 +710,10 @@ pub(crate) fn area_marks(
         // not at all: only if every blob of that colour is a round mark standing alone.
         let whole_canvas = a.kind == crate::structure::AreaKind::Canvas;
         let first = out.len();
-        let mut spoiled: Vec<[u8; 3]> = Vec::new();
+        // Colours with a blob that is no round mark standing alone, from each pass: a pale
+        // colour spoils only pale marks (colours near one another need not be near a third).
+        let mut spoiled: [Vec<[u8; 3]>; 2] = Default::default();
+        let mut first_pale = usize::MAX;
         // Cells whose centre lies strictly inside the area.
         let c0 = ((a.x0 / s).floor() as usize + 1).min(gw);
         let c1 = ((a.x1 / s).ceil() as usize).saturating_sub(1).min(gw);
@@ -725,6 +728,9 @@ pub(crate) fn area_marks(
         let mut strong: Vec<[u8; 3]> = Vec::new();
         for least in [AREA_MARK_IMPORTANCE, pale] {
             let pass_pale = least < AREA_MARK_IMPORTANCE;
+            if pass_pale {
+                first_pale = out.len();
+            }
             for r in r0..r1 {
                 for c in c0..c1 {
                     let start = r * gw + c;
@@ -817,7 +823,7 @@ pub(crate) fn area_marks(
                         || (whole_canvas && !stands_alone(src, grown, colour))
                     {
                         if whole_canvas {
-                            spoiled.push(colour);
+                            spoiled[pass_pale as usize].push(colour);
                         }
                         continue;
                     }
@@ -842,7 +848,8 @@ pub(crate) fn area_marks(
             let mut i = 0;
             out.retain(|m: &(Mark, usize, [u8; 3])| {
                 i += 1;
-                i <= first || !spoiled.iter().any(|&c| same_colour(c, m.2))
+                let by = |k: &Vec<[u8; 3]>| k.iter().any(|&c| same_colour(c, m.2));
+                i <= first || !(by(&spoiled[0]) || (i > first_pale && by(&spoiled[1])))
             });
         }
     }
