@@ -3,7 +3,11 @@
 use std::path::PathBuf;
 
 /// Everything that can go wrong in the library.
-#[derive(Debug, thiserror::Error)]
+///
+/// `Debug` shows the same one line as `Display` (`out.png: Permission denied (os error 13)`),
+/// so that `fn main() -> Result<(), vizretarget::Error>` reports an error readably when `?`
+/// returns it; match on the variants to see the fields.
+#[derive(thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
     /// An option is out of range; the message names the value and what is allowed.
@@ -56,13 +60,20 @@ pub enum Error {
     OutputClosed,
 
     /// An input went past one of the [`crate::Limits`]: `message` says what it declared or
-    /// needs and the limit; the caller may name the option that raises `limit`.
+    /// needs and the limit; the caller may name the option that raises `limit`, with
+    /// `needed` when known: what the input needs, in the limit's unit (pixels of a frame,
+    /// frames, bytes of memory).
     #[error("{}: {message}", path.display())]
     LimitExceeded {
         path: PathBuf,
         limit: crate::Limit,
         message: String,
+        needed: Option<u64>,
     },
+
+    /// A picture could not be encoded: the format and the encoder's message.
+    #[error("encoding failed: {0}")]
+    Encode(String),
 
     /// The input ended inside a frame: `got` of `expected` bytes of frame `frame_index`.
     #[error("{}: frame {frame_index} is incomplete: {got} of {expected} bytes", path.display())]
@@ -72,6 +83,12 @@ pub enum Error {
         expected: usize,
         got: usize,
     },
+}
+
+impl std::fmt::Debug for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Display::fmt(self, f)
+    }
 }
 
 impl Error {

@@ -7,6 +7,25 @@
 //! as one sparse system gives a [`Warp`] that keeps salient content in shape while empty space
 //! absorbs the change; the renderer draws the warped frame.
 //!
+//! Read a chart, halve its width, write the result (the format is the one the name says;
+//! a name saying another is refused):
+//!
+//! ```no_run
+//! use vizretarget::io::{read_still, write_still, OutputFormat};
+//! use vizretarget::{retarget, Options, Size};
+//!
+//! fn main() -> Result<(), vizretarget::Error> {
+//!     let chart = read_still("chart.png".as_ref())?;
+//!     let target = Size::new(chart.width() / 2, chart.height())?;
+//!     let out = retarget(&chart, target, &Options::default())?;
+//!     write_still(&out.image, "chart-narrow.png".as_ref(), OutputFormat::Png)?;
+//!     Ok(())
+//! }
+//! ```
+//!
+//! An error returned from `main` prints as one line (`chart.png: No such file or directory
+//! (os error 2)`): [`Error`]'s `Debug` is its `Display`. In memory, without files:
+//!
 //! ```
 //! use vizretarget::{retarget, Image, Options, Size};
 //! let img = Image::filled(Size::new(200, 100)?, [255, 255, 255, 255]);

@@ -142,6 +142,7 @@ impl Limits {
             Some(max) if px > max => Err(Error::LimitExceeded {
                 path: name.to_path_buf(),
                 limit: Limit::Pixels,
+                needed: Some(px),
                 message: format!(
                     "{what} declares {width}x{height} px ({px} pixels), above the limit of {max} \
                      pixels a frame"
@@ -158,6 +159,7 @@ impl Limits {
             Some(max) if count > max || (at_least && count >= max) => Err(Error::LimitExceeded {
                 path: name.to_path_buf(),
                 limit: Limit::Frames,
+                needed: (!at_least).then_some(count),
                 message: format!(
                     "holds {}{count} frames, above the limit of {max} frames",
                     if at_least { "more than " } else { "" },
@@ -241,6 +243,7 @@ impl Limits {
             Some(budget) if bytes > budget => Err(Error::LimitExceeded {
                 path: name.to_path_buf(),
                 limit: Limit::Memory,
+                needed: Some(bytes),
                 message: format!(
                     "{} needs about {}, above the memory limit of {}",
                     job(),
@@ -258,6 +261,7 @@ pub(crate) fn too_many_frames(name: &Path, max: u64) -> Error {
     Error::LimitExceeded {
         path: name.to_path_buf(),
         limit: Limit::Frames,
+        needed: None,
         message: format!("goes on past {max} frames, the limit (the frames before were read)"),
     }
 }
@@ -311,6 +315,7 @@ impl MemoryPlan {
         Err(Error::LimitExceeded {
             path: self.name.clone(),
             limit: Limit::Memory,
+            needed: Some(bytes),
             message: format!(
                 "frame {frame_index} is {size}, larger than the frames before it: retargeting it \
                  to {} needs about {}, above the memory limit of {}",

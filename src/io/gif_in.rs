@@ -59,6 +59,7 @@ fn check_frame_rect(limits: &Limits, name: &Path, index: u64, w: u16, h: u16) ->
         Some(budget) if w * h * 4 > budget => Err(Error::LimitExceeded {
             path: name.to_path_buf(),
             limit: crate::Limit::Memory,
+            needed: None,
             message: format!(
                 "{what} declares {w}x{h} px, {} to decode, above the memory limit of {}",
                 human_bytes(w * h * 4),
@@ -126,6 +127,7 @@ fn count_frames(path: &Path, max: Option<u64>) -> Option<(u64, bool)> {
     let file = std::fs::File::open(path).ok()?;
     let mut options = DecodeOptions::new();
     options.skip_frame_decoding(true);
+    options.allow_unknown_blocks(true);
     options.set_memory_limit(MemoryLimit::Bytes(MEMORY_LIMIT.try_into().ok()?));
     let mut d = options.read_info(BufReader::new(file)).ok()?;
     let mut n = 0;
@@ -152,6 +154,9 @@ impl<R: Read + Send> GifSource<R> {
         let name = name.as_ref().to_path_buf();
         let mut options = DecodeOptions::new();
         options.set_color_output(ColorOutput::RGBA);
+        // Extension blocks of a type the decoder does not know (an application's own) are
+        // skipped, as browsers skip them.
+        options.allow_unknown_blocks(true);
         options.set_memory_limit(memory_limit(limits));
         let decoder = options
             .read_info(BufReader::new(reader))

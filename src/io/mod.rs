@@ -4,7 +4,7 @@
 //!   ([`GifSource`]), a folder of pictures in natural order ([`DirSource`]), raw RGBA/RGB
 //!   frames ([`RawSource`]), YUV4MPEG2 ([`Y4mSource`]), concatenated PNGs
 //!   ([`PngStreamSource`]), a watched folder of snapshots ([`WatchSource`], feature `watch`).
-//! - Out ([`crate::stream::FrameSink`]): still PNG/JPEG ([`write_still`]), animated GIF
+//! - Out ([`crate::stream::FrameSink`]): still PNG/JPEG/WebP ([`write_still`]), animated GIF
 //!   ([`GifSink`]), a folder of PNGs ([`PngSeqSink`]), raw frames ([`RawSink`]), YUV4MPEG2
 //!   ([`Y4mSink`]), concatenated PNGs ([`PngStreamSink`]).
 //! - [`open_input`], [`resolve_output`] and [`open_sink`] pick among them from a path and a

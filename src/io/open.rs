@@ -295,7 +295,8 @@ fn open_stream(
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum OutputChoice {
     /// By the path: `-` is YUV4MPEG2 on stdout, a folder (existing, or a path ending in `/`)
-    /// a PNG sequence, else the extension: `.gif`, `.png`, `.jpg`/`.jpeg`, `.y4m`.
+    /// a PNG sequence, else the extension: `.gif`, `.png`, `.jpg`/`.jpeg`, `.webp`, `.y4m`.
+    /// (The command line writes one picture to stdout as PNG: it knows the input.)
     #[default]
     Auto,
     Gif,
@@ -354,23 +355,38 @@ pub fn resolve_output(path: &Path, choice: OutputChoice) -> Result<Destination, 
             Some("y4m") => Stream(SinkFormat::Y4m),
             Some("png") => Still(OutputFormat::Png),
             Some("jpg" | "jpeg") => Still(OutputFormat::Jpeg),
+            Some("webp") => Still(OutputFormat::WebP),
             _ => {
                 return Err(Error::InvalidOptions(format!(
-                    "{}: unsupported output format: use a name ending in .png, .jpg or .jpeg \
-                     (one picture), .gif or .y4m (an animation), a folder ending in / (a PNG \
-                     sequence), or - (stdout)",
+                    "{}: unsupported output format: use a name ending in .png, .jpg, .jpeg or \
+                     .webp (one picture), .gif or .y4m (an animation), a folder ending in / (a \
+                     PNG sequence), or - (stdout)",
                     path.display()
                 )))
             }
         },
         OutputChoice::Gif => Stream(SinkFormat::Gif),
         OutputChoice::Png if folder_like => Stream(SinkFormat::PngSeq),
-        OutputChoice::Png => Still(OutputFormat::Png),
-        OutputChoice::Jpeg => Still(OutputFormat::Jpeg),
+        OutputChoice::Png => Still(named(path, OutputFormat::Png)?),
+        OutputChoice::Jpeg => Still(named(path, OutputFormat::Jpeg)?),
         OutputChoice::Rgba => Stream(SinkFormat::Raw(RawFormat::Rgba)),
         OutputChoice::Rgb24 => Stream(SinkFormat::Raw(RawFormat::Rgb24)),
         OutputChoice::Y4m => Stream(SinkFormat::Y4m),
     })
+}
+
+/// `format`, unless the path's extension names another still format: `--output-format png
+/// -o out.jpg` would write PNG bytes under a JPEG name.
+fn named(path: &Path, format: OutputFormat) -> Result<OutputFormat, Error> {
+    match OutputFormat::from_path(path) {
+        Some(f) if f != format => Err(Error::InvalidOptions(format!(
+            "{}: the name says {} but the output format asked for is {}",
+            path.display(),
+            f.name(),
+            format.name()
+        ))),
+        _ => Ok(format),
+    }
 }
 
 impl SinkFormat {

@@ -3,8 +3,8 @@
 //!
 //! Names: `frame-00000.png`, `frame-00001.png`, ... by `frame_index`, or the name the source
 //! recorded for the frame in [`FrameNames`] (a folder or a watched directory): the same name,
-//! encoded as its extension says (`.png`, or `.jpg`/`.jpeg` as JPEG); another extension
-//! (`.webp`, `.gif`) is replaced by `.png`.
+//! encoded as its extension says (`.png`, `.jpg`/`.jpeg` as JPEG, `.webp` as lossless WebP);
+//! another extension (`.gif`) is replaced by `.png`.
 
 use super::names::FrameNames;
 use super::still::{encode_still, write_atomic, OutputFormat};
@@ -48,7 +48,7 @@ impl PngSeqSink {
     }
 }
 
-/// The output name for an input file name: kept when PNG or JPEG, else given `.png`.
+/// The output name for an input file name: kept when PNG, JPEG or WebP, else given `.png`.
 pub fn output_name(name: &str) -> (String, OutputFormat) {
     let path = Path::new(name);
     match OutputFormat::from_path(path) {
@@ -66,8 +66,10 @@ impl FrameSink for PngSeqSink {
     fn write_frame(&mut self, frame: &Retargeted) -> Result<(), Error> {
         let (name, format) = self.file_for(frame.frame_index);
         let path = self.dir.join(name);
-        let bytes = encode_still(&frame.image, format)
-            .map_err(|m| Error::decode(&path, format!("encoding failed: {m}")))?;
+        let bytes = encode_still(&frame.image, format).map_err(|e| match e {
+            Error::Encode(m) => Error::decode(&path, format!("encoding failed: {m}")),
+            e => e,
+        })?;
         write_atomic(&path, &bytes)?;
         self.last_written = Some(path);
         Ok(())
@@ -86,7 +88,8 @@ mod tests {
     fn names() {
         assert_eq!(output_name("a.png"), ("a.png".into(), OutputFormat::Png));
         assert_eq!(output_name("b.JPG"), ("b.JPG".into(), OutputFormat::Jpeg));
-        assert_eq!(output_name("c.webp"), ("c.png".into(), OutputFormat::Png));
+        assert_eq!(output_name("c.webp"), ("c.webp".into(), OutputFormat::WebP));
+        assert_eq!(output_name("d.gif"), ("d.png".into(), OutputFormat::Png));
         assert_eq!(
             output_name("noext"),
             ("noext.png".into(), OutputFormat::Png)

@@ -1,9 +1,12 @@
 //! Still images: PNG, JPEG, WebP and the first frame of a GIF in (recognised by their magic
-//! bytes, not their extension); PNG or JPEG out, written atomically.
+//! bytes, not their extension); PNG, JPEG or lossless WebP out, written atomically.
 
+use super::gif_in::GifSource;
+use super::sniff::{sniff, Magic};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::limits::Limits;
+use crate::stream::FrameSource;
 use image::{ColorType, ImageDecoder, ImageError, ImageFormat};
 use std::io::{BufRead, BufReader, Cursor, Read, Seek, Write};
 use std::path::Path;
@@ -26,8 +29,24 @@ pub fn read_still(path: &Path) -> Result<Image, Error> {
 /// [`Limits::memory_budget`].
 pub fn read_still_with(path: &Path, limits: &Limits) -> Result<Image, Error> {
     match open_still(path, limits)? {
+        Opened::Gif(reader) => gif_first_frame(reader, path, limits),
         Opened::File(reader) => decode_from(reader, path, limits),
         Opened::Bytes(bytes) => decode_still_with(&bytes, path, limits),
+    }
+}
+
+/// The first frame of a GIF, read as [`GifSource`] reads frames (composited as a browser
+/// shows them, unknown extension blocks skipped), not by the `image` crate's decoder, which
+/// refuses such blocks.
+fn gif_first_frame<R: Read + Send>(
+    reader: R,
+    path: &Path,
+    limits: &Limits,
+) -> Result<Image, Error> {
+    let mut gif = GifSource::with_limits(reader, path, limits)?;
+    match gif.next_frame()? {
+        Some(frame) => Ok(frame.image),
+        None => Err(Error::decode(path, "the GIF has no frames")),
     }
 }
 
@@ -35,6 +54,10 @@ pub fn read_still_with(path: &Path, limits: &Limits) -> Result<Image, Error> {
 /// without decoding a pixel: what a caller needs to check a job's memory before the decode.
 pub fn probe_still(path: &Path, limits: &Limits) -> Result<Size, Error> {
     match open_still(path, limits)? {
+        Opened::Gif(reader) => GifSource::with_limits(reader, path, limits).map(|g| g.size()),
+        Opened::Bytes(bytes) if sniff(&bytes) == Some(Magic::Gif) => {
+            GifSource::with_limits(&bytes[..], path, limits).map(|g| g.size())
+        }
         Opened::File(reader) => header_of(reader, path, limits).map(|(_, size, _)| size),
         Opened::Bytes(bytes) => {
             header_of(Cursor::new(&bytes[..]), path, limits).map(|(_, size, _)| size)
@@ -44,6 +67,8 @@ pub fn probe_still(path: &Path, limits: &Limits) -> Result<Size, Error> {
 
 enum Opened {
     File(BufReader<std::fs::File>),
+    /// A GIF file, read by [`GifSource`].
+    Gif(BufReader<std::fs::File>),
     Bytes(Vec<u8>),
 }
 
@@ -54,7 +79,13 @@ fn open_still(path: &Path, limits: &Limits) -> Result<Opened, Error> {
         return Err(Error::decode(path, "is a directory, not an image"));
     }
     if meta.is_file() {
-        return Ok(Opened::File(BufReader::new(file)));
+        let mut reader = BufReader::new(file);
+        // Peeked, not consumed.
+        let head = reader.fill_buf().map_err(|e| Error::io(path, e))?;
+        if sniff(head) == Some(Magic::Gif) {
+            return Ok(Opened::Gif(reader));
+        }
+        return Ok(Opened::File(reader));
     }
     // Pipes and devices cannot seek, and `/dev/zero` never ends: read a bounded amount.
     let max = limits
@@ -84,6 +115,9 @@ pub fn decode_still(bytes: &[u8], path: &Path) -> Result<Image, Error> {
 
 /// Decodes a still image from memory; `path` only names it in errors.
 pub fn decode_still_with(bytes: &[u8], path: &Path, limits: &Limits) -> Result<Image, Error> {
+    if sniff(bytes) == Some(Magic::Gif) {
+        return gif_first_frame(bytes, path, limits);
+    }
     decode_from(Cursor::new(bytes), path, limits)
 }
 
@@ -190,6 +224,7 @@ fn decode_error(path: &Path, name: &str, e: ImageError, limits: &Limits) -> Erro
         (ImageError::Limits(_), Some(budget)) => Error::LimitExceeded {
             path: path.to_path_buf(),
             limit: crate::Limit::Memory,
+            needed: None,
             message: format!(
                 "decoding this {name} needs more than the memory limit of {}",
                 crate::limits::human_bytes(budget)
@@ -251,22 +286,38 @@ fn one_line(s: &str) -> String {
 pub enum OutputFormat {
     Png,
     Jpeg,
+    /// Lossless WebP.
+    WebP,
 }
 
 impl OutputFormat {
-    /// The format a path's extension asks for (`.png`, `.jpg`, `.jpeg`), if any.
+    /// The format a path's extension asks for (`.png`, `.jpg`, `.jpeg`, `.webp`), if any.
     pub fn from_path(path: &Path) -> Option<OutputFormat> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
         match ext.as_str() {
             "png" => Some(OutputFormat::Png),
             "jpg" | "jpeg" => Some(OutputFormat::Jpeg),
+            "webp" => Some(OutputFormat::WebP),
             _ => None,
+        }
+    }
+
+    /// The format's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            OutputFormat::Png => "PNG",
+            OutputFormat::Jpeg => "JPEG",
+            OutputFormat::WebP => "WebP",
         }
     }
 }
 
-/// Encodes `image` into memory.
-pub fn encode_still(image: &Image, format: OutputFormat) -> Result<Vec<u8>, String> {
+/// Encodes `image` into memory; an encoder's refusal is [`Error::Encode`].
+pub fn encode_still(image: &Image, format: OutputFormat) -> Result<Vec<u8>, Error> {
+    encode(image, format).map_err(|e| Error::Encode(format!("{}: {e}", format.name())))
+}
+
+fn encode(image: &Image, format: OutputFormat) -> Result<Vec<u8>, ImageError> {
     let mut out = Vec::new();
     let (w, h) = (image.width(), image.height());
     match format {
@@ -286,8 +337,7 @@ pub fn encode_still(image: &Image, format: OutputFormat) -> Result<Vec<u8>, Stri
                 enc.write_image(&rgb, w, h, image::ExtendedColorType::Rgb8)
             } else {
                 enc.write_image(image.as_bytes(), w, h, image::ExtendedColorType::Rgba8)
-            }
-            .map_err(|e| e.to_string())?;
+            }?;
         }
         OutputFormat::Jpeg => {
             // JPEG has no alpha: composite over white, as a viewer would show it.
@@ -300,8 +350,20 @@ pub fn encode_still(image: &Image, format: OutputFormat) -> Result<Vec<u8>, Stri
                 })
                 .collect();
             let mut enc = image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, 92);
-            enc.encode(&rgb, w, h, image::ExtendedColorType::Rgb8)
-                .map_err(|e| e.to_string())?;
+            enc.encode(&rgb, w, h, image::ExtendedColorType::Rgb8)?;
+        }
+        OutputFormat::WebP => {
+            let enc = image::codecs::webp::WebPEncoder::new_lossless(&mut out);
+            if image.is_opaque() {
+                let rgb: Vec<u8> = image
+                    .pixels()
+                    .iter()
+                    .flat_map(|p| [p[0], p[1], p[2]])
+                    .collect();
+                enc.encode(&rgb, w, h, image::ExtendedColorType::Rgb8)?;
+            } else {
+                enc.encode(image.as_bytes(), w, h, image::ExtendedColorType::Rgba8)?;
+            }
         }
     }
     Ok(out)
@@ -309,9 +371,25 @@ pub fn encode_still(image: &Image, format: OutputFormat) -> Result<Vec<u8>, Stri
 
 /// Writes `image` to `path` atomically: encoded in memory, written to a temporary file beside
 /// it, then renamed. A failure leaves no file, or the old one, at `path`.
+///
+/// A path whose extension names another format than `format` (`out.jpg` with
+/// [`OutputFormat::Png`]) is refused with [`Error::InvalidOptions`] before anything is
+/// written: a viewer trusting the name would fail on the bytes. A name without one of the
+/// known extensions takes `format`. [`OutputFormat::from_path`] gives the format a name asks
+/// for.
 pub fn write_still(image: &Image, path: &Path, format: OutputFormat) -> Result<(), Error> {
-    let bytes = encode_still(image, format)
-        .map_err(|m| Error::decode(path, format!("encoding failed: {m}")))?;
+    if let Some(named) = OutputFormat::from_path(path).filter(|&f| f != format) {
+        return Err(Error::InvalidOptions(format!(
+            "{}: the name says {} but the picture was to be written as {}",
+            path.display(),
+            named.name(),
+            format.name()
+        )));
+    }
+    let bytes = encode_still(image, format).map_err(|e| match e {
+        Error::Encode(m) => Error::decode(path, format!("encoding failed: {m}")),
+        e => e,
+    })?;
     write_atomic(path, &bytes)
 }
 
