@@ -1,6 +1,7 @@
 //! The `vizretarget` binary: parse, run, report. Exit codes: 0 done (also when the reader of
 //! stdout went away early), 1 failed (bad input, unwritable output, ...), 2 usage error (from
-//! clap), 128 + the signal when stopped by SIGINT (130, Ctrl-C) or SIGTERM (143). Every error is
+//! clap, or an option value or combination refused before any work: `cli::UsageError`),
+//! 128 + the signal when stopped by SIGINT (130, Ctrl-C) or SIGTERM (143). Every error is
 //! one line on stderr.
 
 use clap::Parser;
@@ -24,7 +25,11 @@ fn main() -> ExitCode {
         Err(e) => {
             let hint = cli::limit_hint(&e).map_or_else(String::new, |h| format!("; {h}"));
             eprintln!("vizretarget: error: {}{hint}", chain_line(&e));
-            ExitCode::FAILURE
+            if cli::is_usage_error(&e) {
+                ExitCode::from(2)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

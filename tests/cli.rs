@@ -248,7 +248,8 @@ fn alpha_out_of_range() {
         dir.path(),
         &["in.png", "--width", "150", "--alpha", "1", "-o", "out.png"],
     );
-    assert_fails(&out, 1, &["alpha 1", "out of range", "4 to 200"]);
+    // A usage error: exit 2, as documented.
+    assert_fails(&out, 2, &["alpha 1", "out of range", "4 to 200"]);
     assert_only(dir.path(), &["in.png"]);
 }
 
@@ -284,7 +285,8 @@ fn unknown_output_extension() {
         dir.path(),
         &["in.png", "--size", "150x200", "-o", "out.bmp"],
     );
-    assert_fails(&out, 1, &["out.bmp", "unsupported output format", ".png"]);
+    // A usage error: exit 2, as documented.
+    assert_fails(&out, 2, &["out.bmp", "unsupported output format", ".png"]);
     assert_only(dir.path(), &["in.png"]);
 }
 
@@ -383,7 +385,7 @@ fn help_teaches() {
         "1 to 16384",
         "4 to 200",
         "[default: 20]",
-        ".png, .jpg or .jpeg",
+        ".png, .jpg, .jpeg or .webp",
     ] {
         assert!(help.contains(want), "help lacks {want:?}: {help}");
     }

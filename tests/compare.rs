@@ -454,7 +454,7 @@ mod cli {
             (&["compare", "in.png", "-o", "s.png"], 2, "required"),
             (
                 &["compare", "in.png", "--width", "9", "-o", "s.gif"],
-                1,
+                2,
                 "one picture",
             ),
             (
@@ -466,7 +466,7 @@ mod cli {
                 &[
                     "in.png", "--width", "9", "-o", "out.gif", "--method", "seam",
                 ],
-                1,
+                2,
                 "streams",
             ),
         ];

@@ -171,7 +171,7 @@ fn bad_marks_and_options_fail_clearly() {
             "map.png", "--marks", "bad.json", "--method", "seam", "--width", "60", "-o", "o.png",
         ],
     );
-    assert_fails(&out, 1, &["--method mesh"]);
+    assert_fails(&out, 2, &["--method mesh"]);
     assert!(!d.join("o.png").exists());
 }
 
@@ -230,5 +230,5 @@ fn a_folder_of_frames_finds_its_sidecars_and_json_lines_must_cover_the_stream() 
             "one.png",
         ],
     );
-    assert_fails(&out, 1, &["folder of marks"]);
+    assert_fails(&out, 2, &["folder of marks"]);
 }

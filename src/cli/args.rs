@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use std::path::PathBuf;
-use vizretarget::ReuseOptions;
+use vizretarget::{ReuseOptions, Size};
 
 /// Help text after the options of `--help`: worked examples and exit codes.
 const EXAMPLES: &str = "\
@@ -25,17 +25,24 @@ ends each run.
   vizretarget frames/ --width 400 -o narrow/ --stats-json stats.json
       A folder of PNG/JPEG frames, in natural order (frame2 before frame10), to a folder of
       PNGs with the same names, and per-frame statistics as JSON.
-  ffmpeg -i talk.mp4 -f yuv4mpegpipe - | vizretarget - --size 720x720 -o square.gif
+  ffmpeg -i talk.mp4 -f yuv4mpegpipe -pix_fmt yuv420p - | vizretarget - --size 720x720 -o square.gif
       Video piped in as YUV4MPEG2 (or as PNGs: -f image2pipe -c:v png -), recognised by
-      content, written as a GIF.
+      content, written as a GIF. Keep -pix_fmt yuv420p: from a GIF or RGB source ffmpeg
+      writes nothing to yuv4mpegpipe without it.
   ffmpeg -i in.mp4 -f rawvideo -pix_fmt rgba - \\
-      | vizretarget - --input-format rgba --input-size 1280x720 --size 720x720 -o - \\
+      | vizretarget - --input-format rgba --input-size 1280x720 --fps 30 --size 720x720 -o - \\
       | ffmpeg -f yuv4mpegpipe -i - out.mp4
-      Raw frames in (they need --input-format and --input-size), YUV4MPEG2 out (the default
-      on stdout; also --output-format rgba, rgb24 or png).
+      Raw frames in (they need --input-format and --input-size, and --fps: raw frames carry
+      no rate, and YUV4MPEG2 out would otherwise say 25 fps), YUV4MPEG2 out (the default for
+      a stream on stdout; also --output-format rgba, rgb24 or png).
+  vizretarget chart.png --width 50% -o - > small.png
+      One picture to stdout is a PNG. Sizes may be percentages of the input's (50%, or
+      --size 50%x100%) or one side (--size 400x keeps the height).
   vizretarget watch snapshots/ -o phone/ --size 360x640
       Retarget each new or replaced dashboard snapshot as it lands, into phone/ under the same
       name. Ctrl-C (or SIGTERM) stops.
+  vizretarget completions bash > /etc/bash_completion.d/vizretarget
+      Shell completions (bash, zsh or fish) on stdout.
 
 Vector marks and enhancement (the paper's 5.3 and 5.4):
   vizretarget map.png --marks dots.json --width 400 -o map-narrow.png
@@ -56,7 +63,8 @@ A stream that fails part way (a corrupt frame, a frame past the limit) keeps the
 it in the output and exits with 1.
 
 Exit status: 0 done (also when the reader of stdout closes it early); 1 the input could not be
-read or the output not written; 2 usage error; 130 stopped by SIGINT (Ctrl-C), 143 by SIGTERM
+read or the output not written; 2 usage error (an option's value, or options and inputs that do
+not go together, e.g. an animated GIF to one .png); 130 stopped by SIGINT (Ctrl-C), 143 by SIGTERM
 (during a stream the first signal finishes the frames in flight and completes the output, a
 second one quits at once).";
 
@@ -71,7 +79,10 @@ other extensions are ignored. Faults are reported on stderr, one line naming the
 watching goes on: a snapshot that vanishes before it is read or cannot be decoded is skipped, one
 without read permission until its permissions change, an output that cannot be written (OUTDIR
 read-only) until its snapshot changes; a removed DIR is waited for and watched again when back.
-One line per snapshot on stderr unless --quiet.
+Each snapshot gets its own target: a percentage, or the side not given, is taken from that
+snapshot, so snapshots of different sizes keep their own height (--width) or width (--height).
+One line per snapshot on stderr unless --quiet; at the end, how many were retargeted and how
+long each took (mean and max ms).
 
 Example:
   vizretarget watch snapshots/ -o phone/ --size 360x640 --stats-json phone-stats.json
@@ -118,7 +129,8 @@ Exit status: 0 done, 1 the input could not be read or the sheet not written, 2 u
     version,
     override_usage = "vizretarget <INPUT> (--size WxH | --width N | --height N) -o <OUTPUT> [OPTIONS]\n  \
                       or:  vizretarget watch <DIR> -o <OUTDIR> (--size WxH | --width N | --height N) [OPTIONS]\n  \
-                      or:  vizretarget compare <INPUT> (--size WxH | --width N | --height N) -o <SHEET.png> [--mesh] [--metrics] [--json]",
+                      or:  vizretarget compare <INPUT> (--size WxH | --width N | --height N) -o <SHEET.png> [--mesh] [--metrics] [--json]\n  \
+                      or:  vizretarget completions <bash|zsh|fish>",
     after_long_help = EXAMPLES,
     max_term_width = 100,
     args_conflicts_with_subcommands = true,
@@ -136,28 +148,33 @@ pub struct Cli {
     #[arg(required = true)]
     pub input: Option<PathBuf>,
 
-    /// Output; the extension picks the format: .png, .jpg or .jpeg for one picture, .gif for
-    /// an animation, .y4m for YUV4MPEG2; a folder (existing, or ending in /) for a PNG
-    /// sequence; - for stdout (see --output-format). Replaces an existing file only when the
-    /// run succeeds; the folder must exist.
+    /// Output; the extension picks the format: .png, .jpg, .jpeg or .webp (lossless) for one
+    /// picture, .gif for an animation, .y4m for YUV4MPEG2; a folder (existing, or ending in /)
+    /// for one PNG per frame (a single picture keeps its name: in.jpg -o out/ writes
+    /// out/in.png); - for stdout (one picture as PNG, a stream as YUV4MPEG2: see
+    /// --output-format). An animated GIF or a folder of frames needs a .gif, a folder or -,
+    /// not one picture. Replaces an existing file only when the run succeeds. The folder a
+    /// file goes into must exist; a folder output ending in / is created if missing (its
+    /// parent must exist).
     #[arg(short, long, value_name = "OUTPUT", required = true)]
     pub output: Option<PathBuf>,
 
-    /// Target size as WIDTHxHEIGHT in px, e.g. 400x600; each side 1 to 16384. Not together with
-    /// --width or --height.
+    /// Target size as WIDTHxHEIGHT, each side in px (1 to 16384) or as a percentage of the
+    /// input's, e.g. 400x600, 50%x100%; leave a side out to keep it as in the input: 400x,
+    /// x300. Not together with --width or --height.
     #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
           conflicts_with_all = ["width", "height"], value_parser = parse_size)]
-    pub size: Option<(u32, u32)>,
+    pub size: Option<Target>,
 
-    /// Target width in px, 1 to 16384; the height stays as in the input unless --height is
-    /// given too.
+    /// Target width in px (1 to 16384) or as a percentage of the input's, e.g. 400 or 50%; the
+    /// height stays as in the input unless --height is given too.
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
-    pub width: Option<u32>,
+    pub width: Option<Side>,
 
-    /// Target height in px, 1 to 16384; the width stays as in the input unless --width is
-    /// given too.
+    /// Target height in px (1 to 16384) or as a percentage of the input's, e.g. 300 or 50%;
+    /// the width stays as in the input unless --width is given too.
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
-    pub height: Option<u32>,
+    pub height: Option<Side>,
 
     /// Keep the input's size: with --enhance, --enhance-region or --enhance-mask, enlarge
     /// what matters without resizing the canvas.
@@ -167,7 +184,7 @@ pub struct Cli {
     /// Mesh spacing α in px: the mesh gets about width·height/α² key points. Smaller follows
     /// small marks more closely but is slower; 4 to 200. Under the default --regions affine
     /// the mesh shapes nothing drawn and uses 200.
-    #[arg(long, value_name = "N", default_value_t = 20.0)]
+    #[arg(long, value_name = "N", default_value_t = 20.0, value_parser = parse_alpha)]
     pub alpha: f32,
 
     /// Which parts of a chart the warp may bend: affine (the default: the whole picture is
@@ -193,8 +210,9 @@ pub struct Cli {
     /// Also write the method's intermediate pictures into DIR (created if missing): the
     /// saliency map (vsm.png), its levels (levels.png), the lines and text blocks found
     /// (structure.png; as JSON in structure.json, with where the warp put each text block and
-    /// its scale under "text_out") and the mesh before and after the warp (mesh-before.png,
-    /// mesh-after.png). One picture only.
+    /// its scale under "text_out"), and two pictures of the mesh: over the input before the
+    /// warp (mesh-before.png) and over the output after it (mesh-after.png). One picture
+    /// only: refused for a stream.
     #[arg(long, value_name = "DIR")]
     pub debug_dir: Option<PathBuf>,
 
@@ -255,6 +273,11 @@ impl LimitArgs {
 }
 
 impl Cli {
+    /// The target as given: `--size`, else `--width` and `--height`.
+    pub fn target(&self) -> Target {
+        Target::of(self.size, self.width, self.height)
+    }
+
     /// The limits of a run reading `input` (`-`: stdin, which has no default frame limit).
     pub fn limits_for(&self, stdin: bool) -> vizretarget::Limits {
         let frames = match self.max_frames {
@@ -392,11 +415,13 @@ pub struct StreamArgs {
     pub input_format: InputArg,
 
     /// Frame size of raw input, WIDTHxHEIGHT in px.
-    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    #[arg(long, value_name = "WxH", value_parser = parse_px_size)]
     pub input_size: Option<(u32, u32)>,
 
-    /// What to write: auto decides by the output path (on stdout: y4m); png-seq writes a
-    /// folder; png on stdout is a stream of PNG files (`ffmpeg -f image2pipe -i -` reads it).
+    /// What to write: auto decides by the output path (on stdout: one picture as PNG, as
+    /// image tools do, and a stream as YUV4MPEG2); png-seq writes a folder; png on stdout is a
+    /// stream of PNG files (`ffmpeg -f image2pipe -i -` reads it), y4m on stdout also for one
+    /// picture.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = OutputArg::Auto)]
     pub output_format: OutputArg,
 
@@ -423,19 +448,19 @@ pub struct StreamArgs {
     /// Side in px of the tiles saliency changes are tracked in: smaller tiles re-mesh less
     /// around a small moving mark, larger ones cost less to compare. 4 to 1024.
     #[arg(long, value_name = "PX", default_value_t = ReuseOptions::default().tile_px,
-          help_heading = "Reuse between frames")]
+          value_parser = parse_tile_px, help_heading = "Reuse between frames")]
     pub reuse_tile: u32,
 
     /// Mean saliency change (0 to 1) above which a tile counts as changed; a 6-px dot moving
     /// in a 32-px tile changes it by about 0.1. Raise it to ignore noise and flicker.
     #[arg(long, value_name = "T", default_value_t = ReuseOptions::default().tile_threshold,
-          help_heading = "Reuse between frames")]
+          value_parser = parse_unit_f32, help_heading = "Reuse between frames")]
     pub tile_threshold: f32,
 
     /// Share of changed tiles (0 to 1) above which the mesh is rebuilt rather than updated
     /// locally; no changed tile reuses mesh and solution as they are.
     #[arg(long, value_name = "F", default_value_t = ReuseOptions::default().rebuild_fraction,
-          help_heading = "Reuse between frames")]
+          value_parser = parse_unit_f64, help_heading = "Reuse between frames")]
     pub rebuild_fraction: f64,
 }
 
@@ -471,6 +496,32 @@ pub enum Command {
     )]
     #[command(group = clap::ArgGroup::new("target").args(["size", "width", "height"]).required(true).multiple(true))]
     Compare(CompareArgs),
+
+    /// Print the completion script of a shell on stdout, e.g. `vizretarget completions bash >
+    /// ~/.local/share/bash-completion/completions/vizretarget`.
+    Completions {
+        /// The shell: bash, zsh or fish.
+        #[arg(value_enum)]
+        shell: ShellArg,
+    },
+}
+
+/// Shells `vizretarget completions` writes for.
+#[derive(clap::ValueEnum, Copy, Clone, Debug, PartialEq, Eq)]
+pub enum ShellArg {
+    Bash,
+    Zsh,
+    Fish,
+}
+
+impl From<ShellArg> for clap_complete::Shell {
+    fn from(s: ShellArg) -> clap_complete::Shell {
+        match s {
+            ShellArg::Bash => clap_complete::Shell::Bash,
+            ShellArg::Zsh => clap_complete::Shell::Zsh,
+            ShellArg::Fish => clap_complete::Shell::Fish,
+        }
+    }
 }
 
 /// Arguments of `vizretarget compare`.
@@ -483,21 +534,24 @@ pub struct CompareArgs {
     #[arg(short, long, value_name = "SHEET")]
     pub output: PathBuf,
 
-    /// Target size as WIDTHxHEIGHT in px; each side 1 to 16384.
+    /// Target size as WIDTHxHEIGHT, each side in px (1 to 16384) or a percentage of the
+    /// input's (50%x100%); 400x or x300 keep the other side.
     #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
           conflicts_with_all = ["width", "height"], value_parser = parse_size)]
-    pub size: Option<(u32, u32)>,
+    pub size: Option<Target>,
 
-    /// Target width in px; the height stays as in the input unless --height is given.
+    /// Target width in px or a percentage (50%); the height stays as in the input unless
+    /// --height is given.
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
-    pub width: Option<u32>,
+    pub width: Option<Side>,
 
-    /// Target height in px; the width stays as in the input unless --width is given.
+    /// Target height in px or a percentage (50%); the width stays as in the input unless
+    /// --width is given.
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
-    pub height: Option<u32>,
+    pub height: Option<Side>,
 
     /// Mesh spacing α in px (mesh, and the grid's cell), 4 to 200.
-    #[arg(long, value_name = "N", default_value_t = 20.0)]
+    #[arg(long, value_name = "N", default_value_t = 20.0, value_parser = parse_alpha)]
     pub alpha: f32,
 
     /// Draw the mesh over the mesh and grid outputs (and the source mesh over the original).
@@ -570,21 +624,24 @@ pub struct WatchArgs {
     #[arg(short, long, value_name = "OUTDIR")]
     pub output: PathBuf,
 
-    /// Target size as WIDTHxHEIGHT in px; each side 1 to 16384.
+    /// Target size as WIDTHxHEIGHT, each side in px (1 to 16384) or a percentage of each
+    /// snapshot's (50%x100%); 400x or x300 keep the other side as in each snapshot.
     #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
           conflicts_with_all = ["width", "height"], value_parser = parse_size)]
-    pub size: Option<(u32, u32)>,
+    pub size: Option<Target>,
 
-    /// Target width in px; the height stays as in the first snapshot unless --height is given.
+    /// Target width in px or a percentage (50%); the height stays as in each snapshot unless
+    /// --height is given.
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
-    pub width: Option<u32>,
+    pub width: Option<Side>,
 
-    /// Target height in px; the width stays as in the first snapshot unless --width is given.
+    /// Target height in px or a percentage (50%); the width stays as in each snapshot unless
+    /// --width is given.
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_side)]
-    pub height: Option<u32>,
+    pub height: Option<Side>,
 
     /// Mesh spacing α in px, 4 to 200.
-    #[arg(long, value_name = "N", default_value_t = 20.0)]
+    #[arg(long, value_name = "N", default_value_t = 20.0, value_parser = parse_alpha)]
     pub alpha: f32,
 
     /// Which parts of each snapshot the warp may bend (see `vizretarget --help`): affine
@@ -647,11 +704,84 @@ fn parse_fps(s: &str) -> Result<f64, String> {
     Ok(f)
 }
 
-fn parse_side(s: &str) -> Result<u32, String> {
-    let n: i64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a whole number of pixels"))?;
+/// One side of a target: pixels, or a percentage of the input's side (resolved per input, and
+/// per snapshot when watching).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Side {
+    Px(u32),
+    Percent(f64),
+}
+
+/// The target as given: each side, or `None` to keep the input's.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct Target {
+    pub width: Option<Side>,
+    pub height: Option<Side>,
+}
+
+impl Target {
+    /// `--size` if given, else `--width` and `--height`.
+    pub fn of(size: Option<Target>, width: Option<Side>, height: Option<Side>) -> Target {
+        size.unwrap_or(Target { width, height })
+    }
+
+    /// The size for an input of size `from`; a percentage that gives more than
+    /// [`vizretarget::MAX_SIDE`] px is a usage error naming it.
+    pub fn resolve(&self, from: Size) -> Result<Size, super::UsageError> {
+        let side = |s: Option<Side>, of: u32, name: &str| match s {
+            None => Ok(of),
+            Some(Side::Px(n)) => Ok(n),
+            Some(Side::Percent(p)) => {
+                let n = (of as f64 * p / 100.0).round().max(1.0);
+                if n > vizretarget::MAX_SIDE as f64 {
+                    return Err(super::UsageError(format!(
+                        "{p}% of the input's {name} ({of} px) is {n} px, out of range: each side \
+                         must be 1 to {}",
+                        vizretarget::MAX_SIDE
+                    )));
+                }
+                Ok(n as u32)
+            }
+        };
+        let w = side(self.width, from.width, "width")?;
+        let h = side(self.height, from.height, "height")?;
+        Size::new(w, h).map_err(|e| super::UsageError(e.to_string()))
+    }
+
+    /// The size when both sides are given in pixels, the same for every input.
+    pub fn fixed(&self) -> Option<Size> {
+        match (self.width, self.height) {
+            (Some(Side::Px(w)), Some(Side::Px(h))) => Size::new(w, h).ok(),
+            _ => None,
+        }
+    }
+}
+
+/// Most a percentage may be: more gives above [`vizretarget::MAX_SIDE`] px from any input.
+const MAX_PERCENT: f64 = vizretarget::MAX_SIDE as f64 * 100.0;
+
+fn parse_side(s: &str) -> Result<Side, String> {
+    let t = s.trim();
+    if let Some(num) = t.strip_suffix('%') {
+        let p: f64 = num
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a percentage (e.g. 50%)"))?;
+        if !(p > 0.0 && p <= MAX_PERCENT) {
+            return Err(format!(
+                "'{s}' is out of range: a percentage of the input's side must be above 0% and \
+                 at most {MAX_PERCENT}%"
+            ));
+        }
+        return Ok(Side::Percent(p));
+    }
+    parse_px(s).map(Side::Px)
+}
+
+fn parse_px(s: &str) -> Result<u32, String> {
+    let n: i64 = s.trim().parse().map_err(|_| {
+        format!("'{s}' is not a whole number of pixels or a percentage (e.g. 400 or 50%)")
+    })?;
     if n < 1 || n > vizretarget::MAX_SIDE as i64 {
         return Err(format!(
             "{n} px is out of range: each side must be 1 to {}",
@@ -661,11 +791,68 @@ fn parse_side(s: &str) -> Result<u32, String> {
     Ok(n as u32)
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+/// `WxH` with each side in px or %, or one side left out (`400x`, `x300`).
+fn parse_size(s: &str) -> Result<Target, String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| {
+        format!("'{s}' is not WIDTHxHEIGHT (e.g. 400x600, 50%x100%, or 400x to keep the height)")
+    })?;
+    let side = |v: &str| -> Result<Option<Side>, String> {
+        if v.trim().is_empty() {
+            Ok(None)
+        } else {
+            parse_side(v).map(Some)
+        }
+    };
+    let target = Target {
+        width: side(w)?,
+        height: side(h)?,
+    };
+    if target == Target::default() {
+        return Err(format!(
+            "'{s}' gives neither side: e.g. 400x600, or 400x to keep the height"
+        ));
+    }
+    Ok(target)
+}
+
+/// `WxH` in px, both sides (the size of raw frames).
+fn parse_px_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
-        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT (e.g. 400x600)"))?;
-    Ok((parse_side(w)?, parse_side(h)?))
+        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT in px (e.g. 1280x720)"))?;
+    Ok((parse_px(w)?, parse_px(h)?))
+}
+
+/// A number in `lo..=hi`, named `what` in the message.
+fn number_in(s: &str, what: &str, lo: f64, hi: f64) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
+    if !(lo..=hi).contains(&v) {
+        return Err(format!("{what}{v} is out of range: {lo} to {hi}"));
+    }
+    Ok(v)
+}
+
+fn parse_alpha(s: &str) -> Result<f32, String> {
+    number_in(s, "alpha ", 4.0, 200.0).map(|v| v as f32)
+}
+
+fn parse_tile_px(s: &str) -> Result<u32, String> {
+    let v = number_in(s, "", 4.0, 1024.0)?;
+    if v.fract() != 0.0 {
+        return Err(format!("'{s}' is not a whole number of pixels"));
+    }
+    Ok(v as u32)
+}
+
+fn parse_unit_f32(s: &str) -> Result<f32, String> {
+    number_in(s, "", 0.0, 1.0).map(|v| v as f32)
+}
+
+fn parse_unit_f64(s: &str) -> Result<f64, String> {
+    number_in(s, "", 0.0, 1.0)
 }
 
 #[cfg(test)]
@@ -674,8 +861,12 @@ mod tests {
 
     #[test]
     fn sizes_parse_and_bad_ones_explain() {
-        assert_eq!(parse_size("400x600"), Ok((400, 600)));
-        assert_eq!(parse_size("16384X1"), Ok((16384, 1)));
+        let px = |w, h| Target {
+            width: Some(Side::Px(w)),
+            height: Some(Side::Px(h)),
+        };
+        assert_eq!(parse_size("400x600"), Ok(px(400, 600)));
+        assert_eq!(parse_size("16384X1"), Ok(px(16384, 1)));
         assert!(parse_size("0x10").unwrap_err().contains("out of range"));
         assert!(parse_size("-5x10").unwrap_err().contains("out of range"));
         assert!(parse_size("axb")
@@ -689,13 +880,47 @@ mod tests {
     }
 
     #[test]
+    fn percentages_and_one_side_resolve_per_input() {
+        let from = Size::new(672, 480).unwrap();
+        let t = parse_size("50%x100%").unwrap();
+        assert_eq!(t.resolve(from).unwrap(), Size::new(336, 480).unwrap());
+        assert_eq!(t.fixed(), None);
+        let t = parse_size("400x").unwrap();
+        assert_eq!(t.resolve(from).unwrap(), Size::new(400, 480).unwrap());
+        let t = parse_size("x300").unwrap();
+        assert_eq!(t.resolve(from).unwrap(), Size::new(672, 300).unwrap());
+        assert_eq!(parse_side(" 12.5% "), Ok(Side::Percent(12.5)));
+        for bad in ["0%", "-5%", "abc%", "1e9%", "NaN%", "%"] {
+            let e = parse_side(bad).unwrap_err();
+            assert!(e.contains(bad.trim()), "{bad}: {e}");
+        }
+        assert!(parse_size("x").unwrap_err().contains("neither side"));
+        assert!(parse_side("").unwrap_err().contains("not a whole number"));
+        let huge = Target::of(None, Some(Side::Percent(5000.0)), None);
+        let e = huge.resolve(from).unwrap_err().to_string();
+        assert!(
+            e.contains("5000% of the input's width (672 px) is 33600 px"),
+            "{e}"
+        );
+        assert!(parse_px_size("400x").is_err());
+        assert!(parse_alpha("2")
+            .unwrap_err()
+            .contains("alpha 2 is out of range"));
+        assert!(parse_unit_f32("2")
+            .unwrap_err()
+            .contains("out of range: 0 to 1"));
+    }
+
+    #[test]
     fn still_form_and_watch_subcommand_both_parse() {
         let c = Cli::try_parse_from(["v", "in.png", "-o", "o.png", "--width", "3"]).unwrap();
         assert!(c.command.is_none());
         assert_eq!(c.input.as_deref(), Some(std::path::Path::new("in.png")));
         let c = Cli::try_parse_from(["v", "watch", "d", "-o", "out", "--size", "3x4"]).unwrap();
         match c.command {
-            Some(Command::Watch(w)) => assert_eq!(w.size, Some((3, 4))),
+            Some(Command::Watch(w)) => {
+                assert_eq!(w.size.and_then(|t| t.fixed()), Size::new(3, 4).ok())
+            }
             other => panic!("{other:?}"),
         }
         assert!(
@@ -706,7 +931,7 @@ mod tests {
             Cli::try_parse_from(["v", "compare", "i.png", "-o", "s.png", "--width", "9"]).unwrap();
         match c.command {
             Some(Command::Compare(a)) => {
-                assert_eq!((a.width, a.mesh, a.json), (Some(9), false, false))
+                assert_eq!((a.width, a.mesh, a.json), (Some(Side::Px(9)), false, false))
             }
             other => panic!("{other:?}"),
         }
@@ -714,6 +939,14 @@ mod tests {
             Cli::try_parse_from(["v", "compare", "i.png", "-o", "s.png"]).is_err(),
             "needs a target"
         );
+        let c = Cli::try_parse_from(["v", "completions", "zsh"]).unwrap();
+        assert!(matches!(
+            c.command,
+            Some(Command::Completions {
+                shell: ShellArg::Zsh
+            })
+        ));
+        assert!(Cli::try_parse_from(["v", "completions", "tcsh"]).is_err());
         let c = Cli::try_parse_from([
             "v", "in.png", "-o", "o.png", "--width", "3", "--method", "seam",
         ])

@@ -1,8 +1,8 @@
 //! `vizretarget compare`: every method on one picture, the labelled sheet and the measures;
 //! and `--method` for one picture with a method other than the mesh.
 
-use super::args::{CompareArgs, MethodArg};
-use super::{library_error, Cli};
+use super::args::{CompareArgs, MethodArg, Target};
+use super::{library_error, usage, Cli};
 use anyhow::{bail, Context, Result};
 use std::io::Write;
 use std::path::Path;
@@ -18,8 +18,8 @@ use vizretarget::{debug, retarget_with, Image, Method, Options, Size};
 pub fn run(args: &CompareArgs) -> Result<()> {
     let format = match resolve_output(&args.output, OutputChoice::Auto).map_err(library_error)? {
         Destination::Still(f) => f,
-        Destination::Stream(_) => bail!(
-            "{}: the sheet is one picture: give a .png, .jpg or .jpeg file",
+        Destination::Stream(_) => usage!(
+            "{}: the sheet is one picture: give a .png, .jpg, .jpeg or .webp file",
             args.output.display()
         ),
     };
@@ -28,7 +28,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     options.validate().map_err(library_error)?;
     let limits = args.limits.limits(None);
     let from = probe_still(&args.input, &limits)?;
-    let target = target_of(args.size, args.width, args.height, from)?;
+    let target = Target::of(args.size, args.width, args.height).resolve(from)?;
     limits.check_compare(&args.input, from, target)?;
     let image = read_still_with(&args.input, &limits)?;
     let comparison = compare(&image, target, &options).map_err(library_error)?;
@@ -73,7 +73,7 @@ pub fn still_with(
     let method = Method::from(cli.method);
     debug_assert_ne!(cli.method, MethodArg::Mesh);
     let out = retarget_with(method, image, target, options).map_err(library_error)?;
-    write_still(&out.image, output, format)?;
+    super::still::write_output(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {
         write_debug(dir, image, &out)?;
     }
@@ -123,19 +123,6 @@ fn write_debug(dir: &Path, input: &Image, out: &MethodOutput) -> Result<()> {
         write_still(&img, &dir.join(name), OutputFormat::Png)?;
     }
     Ok(())
-}
-
-fn target_of(
-    size: Option<(u32, u32)>,
-    width: Option<u32>,
-    height: Option<u32>,
-    from: Size,
-) -> Result<Size> {
-    let (w, h) = match (size, width, height) {
-        (Some(s), _, _) => s,
-        (None, w, h) => (w.unwrap_or(from.width), h.unwrap_or(from.height)),
-    };
-    Ok(Size::new(w, h)?)
 }
 
 /// Fail before the work, not after it: the output's folder must exist.

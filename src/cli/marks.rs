@@ -3,7 +3,7 @@
 //! `vizretarget::enhance`.
 
 use super::args::{MarkSizeArg, VectorArgs};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use std::path::Path;
 use std::sync::Arc;
 use vizretarget::enhance::{EnhanceMask, Enhancement};
@@ -52,7 +52,7 @@ pub fn apply(
 /// The marks of one picture (`--marks` FILE; a .jsonl gives its first line).
 pub fn still_layer(args: &VectorArgs) -> Result<Option<vizretarget::VectorLayer>> {
     match &args.marks {
-        Some(p) if p.is_dir() => bail!(
+        Some(p) if p.is_dir() => super::usage!(
             "{}: a folder of marks goes with a folder of frames; for one picture give a JSON file",
             p.display()
         ),

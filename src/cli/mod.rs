@@ -19,16 +19,52 @@ mod watch;
 
 pub use args::Cli;
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, Context, Result};
 use args::{Command, OutputArg};
-use std::path::Path;
-use vizretarget::io::{is_std, resolve_output, Destination, OutputChoice};
+use std::path::{Path, PathBuf};
+use vizretarget::io::{
+    is_std, resolve_output, sniff, Destination, GifSource, Magic, OutputChoice, OutputFormat,
+    SinkFormat,
+};
+use vizretarget::stream::FrameSource;
 
 /// How a successful run ended.
 pub enum Outcome {
     Done,
     /// Stopped by SIGINT or SIGTERM (exit 128 + the signal: 130, 143).
     Interrupted,
+}
+
+/// A usage error found after parsing: an option's value, or a combination of options and
+/// inputs, that cannot work. Exit 2, like clap's own, so that a script can tell a wrong
+/// command from a failed run (1).
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// Returns a [`UsageError`] from the enclosing function.
+macro_rules! usage {
+    ($($arg:tt)*) => {
+        return Err($crate::cli::UsageError(format!($($arg)*)).into())
+    };
+}
+pub(crate) use usage;
+
+/// Whether `e` is a usage error (exit 2): ours, or an option or size the library refused
+/// before any work.
+pub fn is_usage_error(e: &anyhow::Error) -> bool {
+    e.downcast_ref::<UsageError>().is_some()
+        || matches!(
+            e.downcast_ref::<vizretarget::Error>(),
+            Some(vizretarget::Error::InvalidOptions(_) | vizretarget::Error::InvalidSize { .. })
+        )
 }
 
 /// The exit code of a run that ended with [`Outcome::Interrupted`].
@@ -45,10 +81,14 @@ pub fn run(cli: Cli) -> Result<Outcome> {
             compare::run(c)?;
             return Ok(Outcome::Done);
         }
+        Some(Command::Completions { shell }) => {
+            completions(*shell)?;
+            return Ok(Outcome::Done);
+        }
         None => {}
     }
     let (Some(input), Some(output)) = (cli.input.clone(), cli.output.clone()) else {
-        bail!("give an INPUT and -o OUTPUT (see --help)");
+        usage!("give an INPUT and -o OUTPUT (see --help)");
     };
     let choice = match cli.stream.output_format {
         OutputArg::Auto => OutputChoice::Auto,
@@ -61,55 +101,179 @@ pub fn run(cli: Cli) -> Result<Outcome> {
         OutputArg::Y4m => OutputChoice::Y4m,
     };
     if cli.method != args::MethodArg::Mesh && marks::any(&cli.vector) {
-        bail!("--marks, --paint-out-marks and --enhance* work with --method mesh (the default)");
+        usage!("--marks, --paint-out-marks and --enhance* work with --method mesh (the default)");
     }
-    match resolve_output(&output, choice).map_err(library_error)? {
-        Destination::Still(format) if is_picture_file(&input) => {
+    let destination = resolve_output(&output, choice).map_err(library_error)?;
+    let shape = Shape::of(&input, &cli.limits_for(false))?;
+    match (destination, shape) {
+        (Destination::Still(format), Shape::Picture | Shape::UnreadableGif) => {
             still::run(&cli, &input, &output, format)?;
             Ok(Outcome::Done)
         }
-        Destination::Still(_) => bail!(
+        (Destination::Still(_), Shape::Animation(n)) => usage!(
+            "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a .gif, \
+             or a folder (ending in /) for one PNG per frame",
+            input.display(),
+            output.display()
+        ),
+        (Destination::Still(_), Shape::Stream) => usage!(
             "{}: one picture cannot hold a stream of frames: write a .gif, a folder (ending \
              in /), or - (stdout)",
             output.display()
         ),
-        Destination::Stream(_) if cli.method != args::MethodArg::Mesh => bail!(
+        // One picture into a folder keeps its name, as a folder of frames does.
+        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) => {
+            stream::check_output_place(&output, SinkFormat::PngSeq)?;
+            let file = output.join(picture_name(&input));
+            if !output.is_dir() {
+                std::fs::create_dir(&output)
+                    .with_context(|| format!("{}: cannot create the folder", output.display()))?;
+            }
+            still::run(&cli, &input, &file, OutputFormat::Png)?;
+            Ok(Outcome::Done)
+        }
+        // One picture on stdout is a PNG file, as image tools write it.
+        (Destination::Stream(_), Shape::Picture)
+            if is_std(&output) && choice == OutputChoice::Auto =>
+        {
+            still::run(&cli, &input, &output, OutputFormat::Png)?;
+            Ok(Outcome::Done)
+        }
+        (Destination::Stream(_), _) if cli.method != args::MethodArg::Mesh => usage!(
             "--method {} is for one picture; streams are retargeted with mesh",
             vizretarget::Method::from(cli.method)
         ),
-        Destination::Stream(format) => stream::run(&cli, &input, &output, format),
+        (Destination::Stream(format), _) => stream::run(&cli, &input, &output, format),
     }
 }
 
-/// An input that is one file (a still, or a GIF whose first frame is used for a still output).
-fn is_picture_file(input: &Path) -> bool {
-    !is_std(input) && !input.is_dir()
+/// Writes the completion script of `shell` to stdout. Generated into memory first: the
+/// generator panics on a failed write, and a reader closing stdout early is no error.
+fn completions(shell: args::ShellArg) -> Result<()> {
+    use clap::CommandFactory;
+    use std::io::Write;
+    let mut script = Vec::new();
+    clap_complete::generate(
+        clap_complete::Shell::from(shell),
+        &mut Cli::command(),
+        "vizretarget",
+        &mut script,
+    );
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(&script).and_then(|_| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(e).context("stdout: cannot write the completions")
+        }
+        _ => Ok(()),
+    }
+}
+
+/// What an input holds, to choose between the still job and the stream job.
+enum Shape {
+    /// One picture: a PNG, JPEG or WebP file, or a GIF file of one frame.
+    Picture,
+    /// A GIF file of this many frames (more than one).
+    Animation(u64),
+    /// A folder or stdin: frames, however many.
+    Stream,
+    /// A GIF file whose blocks cannot be walked to the end: read as one picture if one is
+    /// asked for (the reader names what is wrong), else as a stream, which keeps the frames
+    /// before the fault.
+    UnreadableGif,
+}
+
+impl Shape {
+    fn of(input: &Path, limits: &vizretarget::Limits) -> Result<Shape> {
+        if is_std(input) || input.is_dir() {
+            return Ok(Shape::Stream);
+        }
+        let mut head = Vec::new();
+        // A file that cannot be read is a picture here: the still job names what is wrong.
+        if let Ok(f) = std::fs::File::open(input) {
+            use std::io::Read;
+            let _ = f.take(16).read_to_end(&mut head);
+        }
+        if sniff(&head) != Some(Magic::Gif) {
+            return Ok(Shape::Picture);
+        }
+        // Counted by walking the blocks, without decoding.
+        let gif = GifSource::open_with(input, limits).map_err(library_error)?;
+        Ok(match gif.len_hint() {
+            Some(n) if n <= 1 => Shape::Picture,
+            Some(n) => Shape::Animation(n as u64),
+            None => Shape::UnreadableGif,
+        })
+    }
+}
+
+/// The name of one picture written into a folder: the input's stem, as PNG.
+fn picture_name(input: &Path) -> PathBuf {
+    let stem = input
+        .file_stem()
+        .map_or_else(|| "picture".into(), |s| s.to_string_lossy().into_owned());
+    PathBuf::from(format!("{stem}.png"))
 }
 
 /// The option that raises the limit an error went past, to end its line with.
-pub fn limit_hint(e: &anyhow::Error) -> Option<&'static str> {
+pub fn limit_hint(e: &anyhow::Error) -> Option<String> {
     limit_hint_of(e.downcast_ref::<vizretarget::Error>()?)
 }
 
-/// [`limit_hint`] of a library error.
-pub fn limit_hint_of(e: &vizretarget::Error) -> Option<&'static str> {
+/// [`limit_hint`] of a library error: the option, with the value the input needs when the
+/// error says (memory rounded up to a whole G, or M below 1 GiB).
+pub fn limit_hint_of(e: &vizretarget::Error) -> Option<String> {
     use vizretarget::Limit;
-    match e {
-        vizretarget::Error::LimitExceeded { limit, .. } => Some(match limit {
-            Limit::Pixels => "raise it with --max-pixels N (0: no limit)",
-            Limit::Frames => "raise it with --max-frames N (0: no limit)",
-            Limit::Memory => "raise it with --memory-limit SIZE, e.g. 4G (0: no limit)",
-            _ => return None,
-        }),
-        _ => None,
+    let vizretarget::Error::LimitExceeded { limit, needed, .. } = e else {
+        return None;
+    };
+    let (option, value) = match limit {
+        Limit::Pixels => ("--max-pixels", needed.map_or("N".into(), |n| n.to_string())),
+        Limit::Frames => ("--max-frames", needed.map_or("N".into(), |n| n.to_string())),
+        Limit::Memory => ("--memory-limit", needed.map_or("SIZE".into(), memory_value)),
+        _ => return None,
+    };
+    Some(format!("raise it with {option} {value} (0: no limit)"))
+}
+
+/// `bytes` as a `--memory-limit` value that covers it: whole GiB, or MiB below 1 GiB.
+fn memory_value(bytes: u64) -> String {
+    const MIB: u64 = 1 << 20;
+    const GIB: u64 = 1 << 30;
+    if bytes > GIB {
+        format!("{}G", bytes.div_ceil(GIB))
+    } else {
+        format!("{}M", bytes.div_ceil(MIB).max(1))
     }
 }
 
-/// The library's error as the command line reports it: option problems without the
-/// "invalid option" prefix.
+/// The library's error as the command line reports it before a run: option problems are
+/// usage errors (exit 2), without the "invalid option" prefix.
 pub(crate) fn library_error(e: vizretarget::Error) -> anyhow::Error {
+    match e {
+        vizretarget::Error::InvalidOptions(m) => UsageError(m).into(),
+        e => e.into(),
+    }
+}
+
+/// The library's error once a run has started: what went wrong is in the input (the marks
+/// of one frame), not in the command, so it exits 1.
+pub(crate) fn run_error(e: vizretarget::Error) -> anyhow::Error {
     match e {
         vizretarget::Error::InvalidOptions(m) => anyhow!(m),
         e => e.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_hint_covers_what_is_needed() {
+        let gib = 1u64 << 30;
+        assert_eq!(memory_value(gib * 111 / 10), "12G");
+        assert_eq!(memory_value(gib), "1024M");
+        assert_eq!(memory_value(3 * gib), "3G");
+        assert_eq!(memory_value(1), "1M");
     }
 }

@@ -20,6 +20,8 @@ pub struct Reporter {
     frames: Mutex<Vec<(FrameStats, Option<String>)>>,
     /// Frames whose output could not be written (watch goes on past them).
     failed: Option<Arc<Mutex<HashSet<u64>>>>,
+    /// Frames done, and their milliseconds summed and at most (for watch's closing line).
+    times: Mutex<(u64, f64, f64)>,
 }
 
 /// What to print for each frame.
@@ -57,6 +59,7 @@ impl Reporter {
             keep: keep_stats,
             frames: Mutex::new(Vec::new()),
             failed: None,
+            times: Mutex::new((0, 0.0, 0.0)),
         }
     }
 
@@ -85,6 +88,22 @@ impl Reporter {
             Some(bar) => bar.suspend(|| eprintln!("{line}")),
             None => eprintln!("{line}"),
         }
+    }
+
+    /// The closing line of watch: snapshots arrive over minutes, so frames per second say
+    /// little; how many were done and how long each took say what matters.
+    pub fn snapshot_line(&self, interrupted: bool) -> String {
+        let (n, sum, max) = *self.times.lock().unwrap_or_else(|e| e.into_inner());
+        let each = if n == 0 {
+            String::new()
+        } else {
+            format!("; {:.0} ms mean, {max:.0} ms max each", sum / n as f64)
+        };
+        format!(
+            "vizretarget: {n} snapshot{} retargeted{each}{}",
+            if n == 1 { "" } else { "s" },
+            if interrupted { " (stopped)" } else { "" }
+        )
     }
 
     /// Writes the statistics as JSON to `path` (atomically).
@@ -144,6 +163,12 @@ impl Progress for Reporter {
         }
         let name = self.names.as_ref().and_then(|n| n.get(stats.frame_index));
         let t = &stats.times;
+        {
+            let mut times = self.times.lock().unwrap_or_else(|e| e.into_inner());
+            times.0 += 1;
+            times.1 += t.total_ms();
+            times.2 = times.2.max(t.total_ms());
+        }
         match &self.per_frame {
             PerFrame::Nothing => {}
             PerFrame::Stats => self.print(format!(

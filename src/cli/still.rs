@@ -1,20 +1,30 @@
 //! One picture in, one picture out: the still job.
 
 use super::args::MethodArg;
-use super::Cli;
+use super::{library_error, usage, Cli};
 use anyhow::{bail, Context, Result};
+use std::io::{IsTerminal, Write};
 use std::path::Path;
-use vizretarget::io::{probe_still, read_still_with, write_still, OutputFormat};
-use vizretarget::{debug, retarget, Options, Retargeted, Size};
+use vizretarget::io::{
+    encode_still, is_std, probe_still, read_still_with, write_still, OutputFormat,
+};
+use vizretarget::{debug, retarget, Image, Options, Retargeted, Size};
 
-/// Runs the still-image job: one picture in, one out, exactly as before streams existed.
+/// Runs the still-image job: one picture in, one out (`-`: stdout).
 pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Result<()> {
     // Fail before the work, not after it: the output's folder must exist.
     let out_dir = match output.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    if !out_dir.is_dir() {
+    if is_std(output) {
+        if std::io::stdout().is_terminal() {
+            usage!(
+                "refusing to write a picture to a terminal: pipe stdout into a program \
+                 (| display -) or give -o FILE"
+            );
+        }
+    } else if !out_dir.is_dir() {
         bail!(
             "{}: the output folder {} does not exist",
             output.display(),
@@ -30,24 +40,20 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
     if let Some(layer) = super::marks::still_layer(&cli.vector)? {
         options = options.with_marks(layer);
     }
-    options.validate()?;
+    options.validate().map_err(library_error)?;
     if cli.size.is_none() && cli.width.is_none() && cli.height.is_none() && !cli.same_size {
-        bail!("no target size: give --size WxH, or --width N and/or --height N");
+        usage!("no target size: give --size WxH, or --width N and/or --height N");
     }
     // The header first: the job's memory is checked before the picture is decoded.
     let from = probe_still(input, &limits)?;
-    let (w, h) = match (cli.size, cli.width, cli.height) {
-        (Some(s), _, _) => s,
-        (None, w, h) => (w.unwrap_or(from.width), h.unwrap_or(from.height)),
-    };
-    let target = Size::new(w, h)?;
+    let target = cli.target().resolve(from)?;
     limits.check_still(input, from, target)?;
     let image = read_still_with(input, &limits)?;
     if cli.method != MethodArg::Mesh {
         return super::compare::still_with(cli, input, output, format, &image, target, &options);
     }
     let out = retarget(&image, target, &options)?;
-    write_still(&out.image, output, format)?;
+    write_output(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {
         write_debug(dir, &image, &out)?;
     }
@@ -55,6 +61,22 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
         print_stats(input, image.size(), &out);
     }
     Ok(())
+}
+
+/// Writes the picture to `output`, or as one file to stdout for `-` (a reader that closes it
+/// early is no error, as for streams).
+pub fn write_output(image: &Image, output: &Path, format: OutputFormat) -> Result<()> {
+    if !is_std(output) {
+        return Ok(write_still(image, output, format)?);
+    }
+    let bytes = encode_still(image, format)?;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(&bytes).and_then(|_| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(e).context("stdout: cannot write the picture")
+        }
+        _ => Ok(()),
+    }
 }
 
 fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Result<()> {

@@ -1,7 +1,7 @@
 //! A stream of frames in, a stream out, through [`Pipeline::run`].
 
 use super::report::{summary_line, PerFrame, Reporter};
-use super::{interrupt, library_error, Outcome};
+use super::{interrupt, library_error, run_error, usage, Outcome};
 use crate::cli::args::{Cli, InputArg};
 use anyhow::{bail, Context, Result};
 use std::io::IsTerminal;
@@ -19,13 +19,13 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     let args = &cli.stream;
     check_output_place(output, format)?;
     if is_std(output) && format != SinkFormat::PngSeq && std::io::stdout().is_terminal() {
-        bail!(
+        usage!(
             "refusing to write binary frames to a terminal: pipe stdout into a program \
              (| ffplay -) or give -o FILE"
         );
     }
     if cli.debug_dir.is_some() {
-        bail!("--debug-dir is for one picture; for a stream, retarget single frames with it");
+        usage!("--debug-dir is for one picture; for a stream, retarget single frames with it");
     }
     let limits = cli.limits_for(is_std(input_path));
     let mut options = super::marks::apply(
@@ -38,13 +38,17 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     options.reuse = args.reuse();
     options.validate().map_err(library_error)?;
     if format == SinkFormat::PngSeq && !is_std(input_path) && same_folder(input_path, output) {
-        bail!(
+        usage!(
             "{}: writing into the input folder would replace the input frames; choose another \
              output folder",
             output.display()
         );
     }
-    let input_size = args.input_size.map(|(w, h)| Size::new(w, h)).transpose()?;
+    let input_size = args
+        .input_size
+        .map(|(w, h)| Size::new(w, h))
+        .transpose()
+        .map_err(library_error)?;
     let input_format = match args.input_format {
         InputArg::Auto => InputFormat::Auto,
         InputArg::Rgba => InputFormat::Rgba,
@@ -54,8 +58,9 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     };
     // Until the source is detached below, a signal ends the program at once: nothing has
     // been written yet, and opening stdin may wait on a writer that sends nothing.
-    let mut input =
-        open_input_with(input_path, input_format, input_size, &limits).map_err(library_error)?;
+    let mut input = open_input_with(input_path, input_format, input_size, &limits)
+        .map_err(|e| empty_stdin_hint(e, input_path))
+        .map_err(library_error)?;
     if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {
         let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
         input.source = Box::new(MarkedSource::new(frames, marks));
@@ -72,11 +77,10 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         eprintln!("vizretarget: stopped before the first frame; nothing written");
         return Ok(Outcome::Interrupted);
     }
-    let target = match (cli.size, cli.width, cli.height, from) {
-        (Some((w, h)), _, _, _) => Size::new(w, h)?,
-        (None, Some(w), Some(h), _) => Size::new(w, h)?,
-        (None, w, h, Some(f)) => Size::new(w.unwrap_or(f.width), h.unwrap_or(f.height))?,
-        (None, _, _, None) => bail!("{}: no frames", input_path.display()),
+    let target = match (cli.target().fixed(), from) {
+        (Some(t), _) => t,
+        (None, Some(f)) => cli.target().resolve(f)?,
+        (None, None) => bail!("{}: no frames", input_path.display()),
     };
     let frame_rate = match args.fps {
         Some(f) => Some(FrameRate::from_fps(f).context("--fps is out of range")?),
@@ -133,12 +137,20 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         // An empty input (raw stdin, whose size is given, is only found empty here) makes
         // the sink refuse to write nothing: the input is what to name.
         Err(vizretarget::Error::NoFrames(p)) if p != input_path => {
-            bail!("{}: no frames", input_name.display())
+            bail!(
+                "{}: no frames{}",
+                input_name.display(),
+                nothing_arrived(input_path)
+            )
         }
-        r => r.map_err(|e| raw_hint(e, &input)).map_err(library_error)?,
+        r => r.map_err(|e| raw_hint(e, &input)).map_err(run_error)?,
     };
     if summary.frames == 0 && !interrupted && !summary.output_closed {
-        bail!("{}: no frames", input_name.display());
+        bail!(
+            "{}: no frames{}",
+            input_name.display(),
+            nothing_arrived(input_path)
+        );
     }
     if !args.quiet && !summary.output_closed {
         eprintln!("{}", summary_line(&summary, from, target));
@@ -176,8 +188,36 @@ fn raw_hint(e: vizretarget::Error, input: &Input) -> vizretarget::Error {
     }
 }
 
+/// What may have gone wrong upstream when stdin brought no frame.
+fn nothing_arrived(input_path: &Path) -> &'static str {
+    if is_std(input_path) {
+        ": nothing arrived on stdin: did the program writing to the pipe fail?"
+    } else {
+        ""
+    }
+}
+
+/// Nothing at all on stdin most often means the program writing into the pipe failed (its
+/// own error is above ours) or wrote nothing it could: say so.
+fn empty_stdin_hint(e: vizretarget::Error, input_path: &Path) -> vizretarget::Error {
+    match e {
+        vizretarget::Error::Decode { path, message }
+            if is_std(input_path) && message.starts_with("the input is empty") =>
+        {
+            vizretarget::Error::Decode {
+                path,
+                message: "nothing arrived on stdin: did the program writing to the pipe fail? \
+                          (ffmpeg needs -pix_fmt yuv420p for -f yuv4mpegpipe from a GIF or RGB \
+                          source)"
+                    .into(),
+            }
+        }
+        e => e,
+    }
+}
+
 /// Fails before the work if the output cannot be written where asked.
-fn check_output_place(output: &Path, format: SinkFormat) -> Result<()> {
+pub fn check_output_place(output: &Path, format: SinkFormat) -> Result<()> {
     if is_std(output) {
         return Ok(());
     }

@@ -1,17 +1,17 @@
 //! `vizretarget watch DIR -o OUTDIR`: snapshots in, same-named retargeted files out.
 
-use super::args::WatchArgs;
-use super::report::{summary_line, PerFrame, Reporter};
+use super::args::{Target, WatchArgs};
+use super::report::{PerFrame, Reporter};
 use super::stream::same_folder;
-use super::{interrupt, library_error, Outcome};
+use super::{interrupt, library_error, run_error, usage, Outcome};
 use anyhow::{bail, Context, Result};
 use std::collections::HashSet;
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
-use vizretarget::io::{open_watch, PngSeqSink, SinkFormat, WatchOptions};
-use vizretarget::stream::{FrameSink, Progress};
-use vizretarget::{MemoryPlan, Options, Pipeline, Retargeted, Size};
+use vizretarget::io::{open_watch, FrameNames, PngSeqSink, SinkFormat, WatchOptions};
+use vizretarget::stream::{FrameSink, FrameSource, Progress};
+use vizretarget::{Frame, Options, Pipeline, Retargeted, RunSummary, Size};
 
 pub fn run(args: &WatchArgs) -> Result<Outcome> {
     let options = Options::default()
@@ -22,7 +22,7 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         bail!("{}: not a folder: watch needs a folder", args.dir.display());
     }
     if same_folder(&args.dir, &args.output) {
-        bail!(
+        usage!(
             "{}: the output folder must not be the watched one (its outputs would be taken \
              for new snapshots)",
             args.output.display()
@@ -53,25 +53,6 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         inner: sink,
         failed: failed.clone(),
     };
-    // The first snapshot (waited for): the target may depend on its size, the memory plan
-    // does. A later, larger snapshot that would not fit the plan stops watching with an error.
-    let from = input.frame_size()?;
-    let target = match (args.size, args.width, args.height, from) {
-        (Some((w, h)), _, _, _) => Size::new(w, h)?,
-        (None, Some(w), Some(h), _) => Size::new(w, h)?,
-        (None, w, h, Some(f)) => Size::new(w.unwrap_or(f.width), h.unwrap_or(f.height))?,
-        // Stopped before the first snapshot arrived.
-        (None, _, _, None) => return Ok(Outcome::Interrupted),
-    };
-    let plan = match from {
-        Some(f) => limits.plan_stream(
-            &args.dir,
-            f,
-            target,
-            SinkFormat::PngSeq.held_bytes_per_pixel(),
-        )?,
-        None => MemoryPlan::unbounded(target, target),
-    };
     let reporter = Reporter::new(
         None,
         args.quiet,
@@ -80,38 +61,149 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         } else {
             PerFrame::Written(args.output.clone())
         },
-        names,
+        names.clone(),
         args.stats_json.is_some(),
     )
     .with_failed_writes(failed.clone());
-    let result = Pipeline::run_planned(
-        &plan,
-        target,
-        &options,
-        &mut *input.source,
-        &mut sink,
-        &reporter as &dyn Progress,
-        &cancel,
-    );
+    // Each snapshot gets its own target (a percentage, or the side not given, is taken from
+    // it): the pipeline runs while the target stays the same, and starts again with the next
+    // target when a snapshot needs another one.
+    let mut group = SameTarget {
+        inner: &mut *input.source,
+        spec: Target::of(args.size, args.width, args.height),
+        names,
+        current: None,
+        held: None,
+    };
+    let mut total = RunSummary::default();
+    let mut result = Ok(());
+    // The first snapshot of each run (waited for): the memory plan depends on its size. A
+    // later, larger snapshot that would not fit the plan stops watching with an error.
+    while let Some((from, target)) = group.start()? {
+        let plan = limits.plan_stream(
+            &args.dir,
+            from,
+            target,
+            SinkFormat::PngSeq.held_bytes_per_pixel(),
+        )?;
+        let run = Pipeline::run_planned(
+            &plan,
+            target,
+            &options,
+            &mut group,
+            &mut sink,
+            &reporter as &dyn Progress,
+            &cancel,
+        );
+        match run {
+            Ok(s) => add(&mut total, &s),
+            Err(e) => {
+                result = Err(e);
+                break;
+            }
+        }
+        if cancel.load(Ordering::SeqCst) || group.held.is_none() {
+            break;
+        }
+    }
     if let Some(path) = &args.stats_json {
         reporter
-            .write_json(path, result.as_ref().ok())
+            .write_json(path, result.as_ref().ok().map(|_| &total))
             .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
     }
-    let summary = result.map_err(library_error)?;
+    result.map_err(run_error)?;
     if !args.quiet {
         let not_written = failed.lock().unwrap_or_else(|e| e.into_inner()).len();
         let note = match not_written {
             0 => String::new(),
             n => format!("; {n} not written"),
         };
-        eprintln!("{}{note}", summary_line(&summary, from, target));
+        eprintln!("{}{note}", reporter.snapshot_line(total.cancelled));
     }
     Ok(if cancel.load(Ordering::SeqCst) {
         Outcome::Interrupted
     } else {
         Outcome::Done
     })
+}
+
+/// Adds one run's summary to the watch's.
+fn add(total: &mut RunSummary, s: &RunSummary) {
+    total.frames += s.frames;
+    total.elapsed += s.elapsed;
+    total.reused += s.reused;
+    total.updated += s.updated;
+    total.rebuilt += s.rebuilt;
+    total.stage_ms.vsm_ms += s.stage_ms.vsm_ms;
+    total.stage_ms.mesh_ms += s.stage_ms.mesh_ms;
+    total.stage_ms.solve_ms += s.stage_ms.solve_ms;
+    total.stage_ms.render_ms += s.stage_ms.render_ms;
+    total.output_closed |= s.output_closed;
+    total.cancelled |= s.cancelled;
+}
+
+/// The snapshots of one run of the pipeline: those whose target is `current`. The first one
+/// with another target is held back and ends the run; the next run starts with it.
+struct SameTarget<'a> {
+    inner: &'a mut dyn FrameSource,
+    spec: Target,
+    names: Option<FrameNames>,
+    current: Option<Size>,
+    held: Option<(Frame, Size)>,
+}
+
+impl SameTarget<'_> {
+    /// Waits for the first snapshot of the next run: its size and target, or `None` when
+    /// watching stopped before one arrived.
+    fn start(&mut self) -> Result<Option<(Size, Size)>> {
+        if self.held.is_none() {
+            match self.next_with_target().map_err(run_error)? {
+                Some(held) => self.held = Some(held),
+                None => return Ok(None),
+            }
+        }
+        Ok(self.held.as_ref().map(|(f, t)| {
+            self.current = Some(*t);
+            (f.image.size(), *t)
+        }))
+    }
+
+    /// The next snapshot with its target. One whose target is out of range (a percentage
+    /// too large for it) is skipped with a warning: watching goes on.
+    fn next_with_target(&mut self) -> Result<Option<(Frame, Size)>, vizretarget::Error> {
+        loop {
+            let Some(frame) = self.inner.next_frame()? else {
+                return Ok(None);
+            };
+            match self.spec.resolve(frame.image.size()) {
+                Ok(t) => return Ok(Some((frame, t))),
+                Err(e) => {
+                    let name = self.names.as_ref().and_then(|n| n.get(frame.frame_index));
+                    eprintln!(
+                        "vizretarget: warning: {}: {e}; skipped",
+                        name.as_deref().unwrap_or("snapshot")
+                    );
+                }
+            }
+        }
+    }
+}
+
+impl FrameSource for SameTarget<'_> {
+    fn next_frame(&mut self) -> Result<Option<Frame>, vizretarget::Error> {
+        let (frame, target) = match self.held.take() {
+            Some(held) => held,
+            None => match self.next_with_target()? {
+                Some(next) => next,
+                None => return Ok(None),
+            },
+        };
+        if Some(target) != self.current {
+            self.held = Some((frame, target));
+            return Ok(None);
+        }
+        Ok(Some(frame))
+    }
 }
 
 /// The output folder's sink that outlives a failed write (OUTDIR made read-only, a full
