@@ -723,10 +723,17 @@ pub(crate) fn area_marks(
         // Marks of strong colours first; then, of colours none of those has, pale marks on a
         // ground near the frame's mean (a cyan dot on a light sea). A strong colour's pale
         // shades (a bubble's translucent overlap, its antialiased rim) are its business.
+        // Only on a canvas taken whole, where a colour floats all or none: in an area bounded
+        // by axes a pale colour is as likely a strong mark's antialiased rim, floated alone.
         let pale = (median_importance(imp, gw, [c0, r0, c1, r1]) + MARK_ABOVE_GROUND)
             .min(AREA_MARK_IMPORTANCE);
+        let passes = if whole_canvas && pale < AREA_MARK_IMPORTANCE {
+            2
+        } else {
+            1
+        };
         let mut strong: Vec<[u8; 3]> = Vec::new();
-        for least in [AREA_MARK_IMPORTANCE, pale] {
+        for least in [AREA_MARK_IMPORTANCE, pale].into_iter().take(passes) {
             let pass_pale = least < AREA_MARK_IMPORTANCE;
             if pass_pale {
                 first_pale = out.len();
