@@ -1,5 +1,6 @@
-//! The README's quick start keeps its word: halving the width of `streams/scatter-map`'s first
-//! frame leaves every dot round, the pale ones on the sea too.
+//! The README's examples keep their word: halving the width of `streams/scatter-map`'s first
+//! frame leaves every dot round, the pale ones on the sea too, and the `--stats` example's
+//! dashboard keeps its status dots round.
 
 use vizretarget::{retarget, Image, Options, Size};
 
@@ -106,4 +107,29 @@ fn the_quick_start_dots_stay_round() {
     round.sort_by(f64::total_cmp);
     let median = round[round.len() / 2];
     assert!(median >= 0.9, "median roundness {median:.2}: {round:?}");
+}
+
+/// `streams/dashboard/frame-0000.png --width 400` (the README's `--stats` example): the four
+/// green status dots in the header come out round, though the same green draws a progress
+/// bar (a bar follows the map and says nothing of its colour's dots).
+#[test]
+fn the_dashboards_status_dots_stay_round() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/streams/dashboard/frame-0000.png"
+    );
+    let src = vizretarget::io::read_still(std::path::Path::new(path)).unwrap();
+    let target = Size::new(400, src.height()).unwrap();
+    let out = retarget(&src, target, &Options::default()).unwrap().image;
+    let green = [44, 160, 44];
+    let (before, after) = (blobs(&src, green, 70, 30), blobs(&out, green, 70, 16));
+    assert_eq!(before.len(), 5, "four dots and a bar");
+    assert_eq!(after.len(), 5);
+    let dots: Vec<f64> = after
+        .iter()
+        .filter(|b| b.len() < 200)
+        .map(|b| roundness(b))
+        .collect();
+    assert_eq!(dots.len(), 4, "{dots:?}");
+    assert!(dots.iter().all(|&r| r >= 0.9), "{dots:?}");
 }

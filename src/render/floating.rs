@@ -824,6 +824,12 @@ pub(crate) fn area_marks(
                     // A blob a few cells across is a filled square at cell resolution, whatever
                     // its shape: only a larger one can be told for a rectangle.
                     let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
+                    // A bar or a cell follows the map (its length is data) and says nothing of
+                    // its colour's round marks: a dashboard draws a progress bar in the green
+                    // of its status dots.
+                    if rectangle && whole_canvas {
+                        continue;
+                    }
                     if !round
                         || bw.max(bh) > max_side
                         || rectangle
