@@ -401,11 +401,28 @@ fn group_lines(mut comps: Vec<(Comp, bool)>) -> Vec<(Comp, u32, usize)> {
     }
     // A lone component is text when it is somewhat wider than tall (two digits that touch:
     // "85"; it is mostly ground, see [`MAX_INK`]); a round or square blob is a mark.
-    groups
+    let (mut lines, lone): (Vec<_>, Vec<_>) = groups
         .into_values()
-        .filter(|(c, lh, k, stems)| *stems >= 1 && (*k >= 2 || c.w() * 4 >= 5 * *lh))
-        .map(|(c, lh, k, _)| (c, lh, k))
-        .collect()
+        .filter(|(_, _, _, stems)| *stems >= 1)
+        .partition(|(c, lh, k, _)| *k >= 2 || c.w() * 4 >= 5 * *lh);
+    // A lone glyph with stems in line with text of its size is text too: the "0" that starts
+    // a row of tick labels or ends a column of them (left out, it is squeezed beside labels
+    // kept at their size). In line: on the same row, or sharing a left or right edge (a tick
+    // mark under its label is centred on it, never edge to edge).
+    let in_line = |c: &Comp, lh: u32, o: &Comp, olh: u32| {
+        let (lo, hi) = (lh.min(olh), lh.max(olh));
+        let overlap = c.y1.min(o.y1) as i64 - c.y0.max(o.y0) as i64;
+        hi * 4 <= lo * 5
+            && (overlap * 10 >= c.h().min(o.h()) as i64 * 6
+                || c.x0.abs_diff(o.x0) <= 1
+                || c.x1.abs_diff(o.x1) <= 1)
+    };
+    let found: Vec<_> = lone
+        .into_iter()
+        .filter(|(c, lh, _, _)| lines.iter().any(|(o, olh, _, _)| in_line(c, *lh, o, *olh)))
+        .collect();
+    lines.extend(found);
+    lines.into_iter().map(|(c, lh, k, _)| (c, lh, k)).collect()
 }
 
 /// Overlapping text lines merged into blocks.
@@ -509,6 +526,55 @@ mod tests {
         let blocks = detect(&l, w, h, [&[], &[]]);
         assert_eq!(blocks.len(), 1, "{blocks:?}");
         assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 65, "{blocks:?}");
+    }
+
+    /// Draws a "0" (a 6×10 ring, strokes 2 px) with its top-left corner at `(x, y)`.
+    fn zero(l: &mut [u8], w: usize, x: usize, y: usize) {
+        for yy in y..y + 10 {
+            for xx in x..x + 6 {
+                let inner = (x + 2..x + 4).contains(&xx) && (y + 2..y + 8).contains(&yy);
+                if !inner {
+                    l[yy * w + xx] = 0;
+                }
+            }
+        }
+    }
+
+    /// A lone "0" in line with labels of its size is text: at the start of a row of tick
+    /// labels, or below a column of them sharing its right edge. Alone it is not (a lone
+    /// round glyph is as likely a mark), and neither is a tick centred under a label.
+    #[test]
+    fn a_lone_zero_in_line_with_labels_is_text() {
+        let (w, h) = (200, 100);
+        // A row: "0" far left of "20" and "40".
+        let mut l = vec![255u8; w * h];
+        zero(&mut l, w, 10, 20);
+        for x in [60, 100] {
+            zero(&mut l, w, x, 20);
+            zero(&mut l, w, x + 8, 20);
+        }
+        let row = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(row.len(), 3, "{row:?}");
+        assert!(row.iter().any(|b| b.x0 <= 10 && b.x1 <= 20), "{row:?}");
+        // A column: "10" above "0", right edges aligned.
+        let mut l = vec![255u8; w * h];
+        for y in [20, 40] {
+            zero(&mut l, w, 92, y);
+        }
+        zero(&mut l, w, 84, 20);
+        let column = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(column.len(), 2, "{column:?}");
+        // Alone, and a tick centred under a label: no text but the label.
+        let mut l = vec![255u8; w * h];
+        zero(&mut l, w, 150, 70);
+        zero(&mut l, w, 60, 20);
+        zero(&mut l, w, 68, 20);
+        for y in 34..44 {
+            l[y * w + 66] = 0;
+        }
+        let alone = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(alone.len(), 1, "{alone:?}");
+        assert!(alone[0].x0 >= 59 && alone[0].y1 <= 32, "{alone:?}");
     }
 
     /// Thin bars in a row (a histogram's narrow bins) are stems without a word: no text.
