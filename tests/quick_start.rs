@@ -96,17 +96,18 @@ fn the_quick_start_dots_stay_round() {
         let after = blobs(&out, k, 70, 16);
         assert_eq!(after.len(), before.len(), "dots of colour {k:?}");
         for b in &after {
-            // A dot 6 or 7 px across is as round as the pixel grid and its resampled rim let
-            // it be (0.83 to 1), where a squeezed one measures 0.4 to 0.6.
+            // Squeezed, a dot measures 0.4 to 0.6; resampled from its own raster, a dot 6 px
+            // across came out 0.83 (a pixel wider on one side). Drawn as a disc it is 1, but
+            // for a dot astride land and sea, whose rim blends into each ground apart (0.898).
             let r = roundness(b);
-            assert!(r >= 0.8, "a dot of colour {k:?} came out {r:.2} round");
+            assert!(r >= 0.89, "a dot of colour {k:?} came out {r:.3} round");
             round.push(r);
         }
     }
     assert!(round.len() >= 25, "{} dots", round.len());
     round.sort_by(f64::total_cmp);
     let median = round[round.len() / 2];
-    assert!(median >= 0.9, "median roundness {median:.2}: {round:?}");
+    assert!(median >= 0.95, "median roundness {median:.2}: {round:?}");
 }
 
 /// `streams/dashboard/frame-0000.png --width 400` (the README's `--stats` example): the four

@@ -919,6 +919,146 @@ struct Paste {
     /// the output point `to`, the mark around it scaled by `scale`. `None`: a whole-pixel
     /// copy by `offset`.
     scaled: Option<Scaled>,
+    /// A solid round mark, drawn as the disc it is rather than resampled (see [`Disc`]).
+    disc: Option<Disc>,
+}
+
+/// A solid round mark of one colour, as measured in the source: drawn scaled as a disc of
+/// its colour, antialiased, centred on the output pixel grid's half-pixel lattice. A dot a
+/// few pixels across resampled from its own raster keeps that raster's lopsided rim (a pixel
+/// wider on one side); the disc it stands for does not.
+#[derive(Copy, Clone, Debug)]
+struct Disc {
+    centre: DVec2,
+    radius: f64,
+    colour: [u8; 4],
+}
+
+/// Least roundness (minor over major axis of its coverage) and share of its box a mark's
+/// coverage must have to be drawn as a disc: a disc fills π/4 of its box.
+const DISC_ROUNDNESS: f64 = 0.9;
+const DISC_FILL: f64 = 0.7;
+/// Largest output radius, in pixels, of a mark drawn as a disc: above it a resampled mark's
+/// rim is smooth enough, and a bubble may be translucent or overlap others (its measured
+/// disc would take their ink for its own).
+const DISC_MAX_RADIUS_PX: f64 = 6.0;
+
+impl Disc {
+    /// Draws the disc where `sc` takes it, at its scale: its centre put on a pixel's centre
+    /// or on a pixel corner, whichever is nearer, so that it covers the pixels alike on every
+    /// side (a centre on a corner across and a pixel's centre along comes out a pixel wider
+    /// than tall), each pixel covered by the share of its 4×4 samples inside.
+    fn draw(&self, sc: Scaled, out: &mut Image) {
+        let c = sc.to + (self.centre - sc.from) * sc.scale;
+        let corner = c.round();
+        let centre = (c - 0.5).round() + 0.5;
+        let c = if c.distance_squared(corner) <= c.distance_squared(centre) {
+            corner
+        } else {
+            centre
+        };
+        let r = self.radius * sc.scale;
+        let (ow, oh) = (out.width() as i64, out.height() as i64);
+        let op = out.pixels_mut();
+        const N: usize = 4;
+        for ty in ((c.y - r).floor() as i64).max(0)..((c.y + r).ceil() as i64 + 1).min(oh) {
+            for tx in ((c.x - r).floor() as i64).max(0)..((c.x + r).ceil() as i64 + 1).min(ow) {
+                let inside = (0..N * N)
+                    .filter(|k| {
+                        let sx = tx as f64 + ((k % N) as f64 + 0.5) / N as f64;
+                        let sy = ty as f64 + ((k / N) as f64 + 0.5) / N as f64;
+                        DVec2::new(sx, sy).distance_squared(c) <= r * r
+                    })
+                    .count();
+                if inside == 0 {
+                    continue;
+                }
+                let a = inside as f32 / (N * N) as f32;
+                let o = &mut op[(ty * ow + tx) as usize];
+                for (v, &m) in o.iter_mut().zip(&self.colour) {
+                    *v = (*v as f32 * (1.0 - a) + m as f32 * a + 0.5) as u8;
+                }
+            }
+        }
+    }
+
+    /// The disc a mark of colour `c` in `rect` of `src` is, if it is one: each pixel's
+    /// coverage is how far its colour lies from the ground (the box border's commonest colour)
+    /// towards `c`, and every pixel mostly of the mark's colour must be that colour alone.
+    fn of(src: &Image, rect: [u32; 4], c: [u8; 3]) -> Option<Disc> {
+        // Up to two grounds (a dot on a border between land and sea), each a tenth of the
+        // box's border or more.
+        let mut rings = ring_colours(src, rect);
+        rings.sort_by_key(|g| std::cmp::Reverse(g.1));
+        let all: u32 = rings.iter().map(|g| g.1).sum();
+        let grounds: Vec<[u8; 3]> = (rings.iter().take(2))
+            .filter(|g| g.1 * 10 >= all)
+            .map(|g| g.0)
+            .collect();
+        let dist = |a: [u8; 3], b: [u8; 3]| {
+            (0..3)
+                .map(|k| (a[k] as f64 - b[k] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        if grounds.is_empty() || grounds.iter().any(|&g| dist(g, c) < SAME_COLOUR as f64) {
+            return None;
+        }
+        let (mut area, mut sx, mut sy) = (0.0, 0.0, 0.0);
+        let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+        let (mut full, mut sum) = (0u32, [0f64; 4]);
+        let [x0, y0, x1, y1] = rect;
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let p = src.get(x, y);
+                let q = [p[0], p[1], p[2]];
+                // Coverage along the line from the ground to the mark's colour; a colour off
+                // that line (a third ink: a line through the dot, a label) is no disc.
+                let dc = dist(q, c);
+                let (dg, span) = grounds
+                    .iter()
+                    .map(|&g| (dist(q, g), dist(g, c)))
+                    .min_by(|a, b| (a.0 + dc - a.1).total_cmp(&(b.0 + dc - b.1)))?;
+                if dg + dc > span + SAME_COLOUR as f64 {
+                    return None;
+                }
+                let w = (dg / span).clamp(0.0, 1.0);
+                let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                area += w;
+                (sx, sy) = (sx + w * px, sy + w * py);
+                (sxx, syy, sxy) = (sxx + w * px * px, syy + w * py * py, sxy + w * px * py);
+                if dc < SAME_COLOUR as f64 / 2.0 {
+                    full += 1;
+                    for (k, v) in sum.iter_mut().enumerate() {
+                        *v += p[k] as f64;
+                    }
+                }
+            }
+        }
+        if area < 4.0 || full == 0 {
+            return None;
+        }
+        let (mx, my) = (sx / area, sy / area);
+        let (cxx, cyy, cxy) = (
+            sxx / area - mx * mx,
+            syy / area - my * my,
+            sxy / area - mx * my,
+        );
+        let (tr, det) = (cxx + cyy, cxx * cyy - cxy * cxy);
+        let d = (tr * tr / 4.0 - det).max(0.0).sqrt();
+        let (lo, hi) = (tr / 2.0 - d, tr / 2.0 + d);
+        let radius = (area / std::f64::consts::PI).sqrt();
+        // The box of the disc with these moments: a disc's variance along an axis is r²/4.
+        let box_area = 16.0 * hi;
+        if hi <= 0.0 || (lo / hi).sqrt() < DISC_ROUNDNESS || area < DISC_FILL * box_area {
+            return None;
+        }
+        Some(Disc {
+            centre: DVec2::new(mx, my),
+            radius,
+            colour: sum.map(|v| (v / full as f64).round() as u8),
+        })
+    }
 }
 
 #[derive(Copy, Clone, Debug)]
@@ -1028,11 +1168,18 @@ impl Floating {
                     to,
                     scale,
                 });
+                let disc = match (colour, &scaled) {
+                    (MaskKind::Colour(c), Some(sc)) => {
+                        Disc::of(src, rect, c).filter(|d| d.radius * sc.scale <= DISC_MAX_RADIUS_PX)
+                    }
+                    _ => None,
+                };
                 pastes.push(Paste {
                     rect,
                     mask,
                     offset,
                     scaled,
+                    disc,
                 });
             }
         }
@@ -1145,6 +1292,9 @@ impl Paste {
     /// and is blended over what the warp drew by the share of samples on the mark.
     fn paste_scaled(&self, src: &Image, out: &mut Image) {
         let Some(sc) = self.scaled else { return };
+        if let Some(d) = self.disc {
+            return d.draw(sc, out);
+        }
         let (ow, oh) = (out.width() as i64, out.height() as i64);
         let [x0, y0, x1, y1] = self.scaled_rect();
         let n = (1.0 / sc.scale).ceil().clamp(2.0, 8.0) as usize;
@@ -1259,6 +1409,76 @@ mod tests {
 
     /// Half width: the canvas' map is x' = x / 2, y' = y.
     const HALF_WIDTH: [f64; 4] = [0.5, 0.0, 1.0, 0.0];
+
+    /// A solid dot drawn by a raster (its rim antialiased, a little lopsided) is measured as
+    /// the disc it stands for and drawn as one: scaled by 0.7 it covers the output pixels
+    /// alike on all four sides. A ring, or a dot with a line of a third colour through it, is
+    /// no disc.
+    #[test]
+    fn a_solid_dot_is_drawn_as_a_disc() {
+        let ground = [240, 240, 240, 255];
+        let mut src = Image::filled(Size::new(40, 40).unwrap(), ground);
+        let (cx, cy, r) = (20.3, 19.8, 5.5);
+        for y in 0..40 {
+            for x in 0..40 {
+                let d = DVec2::new(x as f64 + 0.5 - cx, y as f64 + 0.5 - cy).length();
+                let a = (r + 0.5 - d).clamp(0.0, 1.0);
+                let mix = |g: u8, m: u8| (g as f64 * (1.0 - a) + m as f64 * a).round() as u8;
+                src.set(x, y, [mix(240, 200), mix(240, 30), mix(240, 40), 255]);
+            }
+        }
+        let rect = [12, 12, 29, 29];
+        let disc = Disc::of(&src, rect, [200, 30, 40]).expect("a solid dot");
+        assert!(disc.centre.distance(DVec2::new(cx, cy)) < 0.1, "{disc:?}");
+        assert!((disc.radius - r).abs() < 0.2, "{disc:?}");
+        let mut out = Image::filled(Size::new(30, 30).unwrap(), ground);
+        let sc = Scaled {
+            from: DVec2::new(20.0, 20.0),
+            to: DVec2::new(14.3, 14.6),
+            scale: 0.7,
+        };
+        disc.draw(sc, &mut out);
+        let inked: Vec<(i64, i64)> = (0..30i64)
+            .flat_map(|y| (0..30i64).map(move |x| (x, y)))
+            .filter(|&(x, y)| out.get(x as u32, y as u32)[1] < 135)
+            .collect();
+        // The same mirrored left to right, top to bottom and across the diagonal.
+        let (x0, x1) = (
+            inked.iter().map(|p| p.0).min(),
+            inked.iter().map(|p| p.0).max(),
+        );
+        let (y0, y1) = (
+            inked.iter().map(|p| p.1).min(),
+            inked.iter().map(|p| p.1).max(),
+        );
+        let [x0, x1, y0, y1] = [x0, x1, y0, y1].map(Option::unwrap);
+        assert!(inked.len() >= 20, "{inked:?}");
+        for &(x, y) in &inked {
+            for p in [
+                (x0 + x1 - x, y),
+                (x, y0 + y1 - y),
+                (y - y0 + x0, x - x0 + y0),
+            ] {
+                assert!(inked.contains(&p), "{p:?} missing: {inked:?}");
+            }
+        }
+        // A ring is no disc.
+        let mut ring = Image::filled(Size::new(40, 40).unwrap(), ground);
+        for y in 0..40 {
+            for x in 0..40 {
+                let d = DVec2::new(x as f64 + 0.5 - 20.0, y as f64 + 0.5 - 20.0).length();
+                if (4.0..6.0).contains(&d) {
+                    ring.set(x, y, [200, 30, 40, 255]);
+                }
+            }
+        }
+        assert!(Disc::of(&ring, rect, [200, 30, 40]).is_none());
+        // Nor a dot with a dark line through it.
+        for x in 12..29 {
+            src.set(x, 20, [20, 20, 20, 255]);
+        }
+        assert!(Disc::of(&src, rect, [200, 30, 40]).is_none());
+    }
 
     #[test]
     fn a_label_grows_into_empty_ground_only() {
