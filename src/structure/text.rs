@@ -102,6 +102,15 @@ pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<T
             // waffle or a grid (their gaps reach the outside). Hollow symbols are the size of
             // the body text they label, smaller than display type.
             glyphs.push((c, stems));
+        } else if c.ink <= MAX_INK_HOLED
+            && !frames_its_box(l, w, bg, &c)
+            && encloses_ground(l, w, bg, &c)
+        {
+            // A bold letter with a counter in smaller type (the "B" of a title; left out, it
+            // is squeezed and hidden under its floating word): its outline leaves a side of
+            // its box open, where a hollow box symbol's walls run along all four. It joins a
+            // word beside it as a glyph without stems would, never makes a line alone.
+            glyphs.push((c, false));
         }
     }
     let lines = group_lines(glyphs);
@@ -286,6 +295,30 @@ fn rims_a_fill(l: &[u8], w: usize, h: usize, c: &Comp, bg: i16) -> bool {
         || ((c.x1 as usize) < w && column(c.x1))
         || (c.y0 > 0 && row(c.y0 - 1))
         || ((c.y1 as usize) < h && row(c.y1))
+}
+
+/// Share of its length along which a side's outermost line of ink runs for the side to be a
+/// wall: a box's wall runs along all of it but its antialiased corners, a letter's bowl
+/// touches its side at a point.
+const WALL_SHARE: u32 = 70;
+
+/// Whether ink walls the component's box on all four sides (a hollow box symbol): on each
+/// side, the outermost row or column holding ink has ink along [`WALL_SHARE`] % of it.
+fn frames_its_box(l: &[u8], w: usize, bg: i16, c: &Comp) -> bool {
+    let ink =
+        |x: u32, y: u32| (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16;
+    let walled = |line: &mut dyn Iterator<Item = u32>, along: &dyn Fn(u32) -> u32, len: u32| {
+        line.map(along)
+            .find(|&n| n > 0)
+            .is_some_and(|n| n * 100 >= WALL_SHARE * len)
+    };
+    let column = |x: u32| (c.y0..c.y1).filter(|&y| ink(x, y)).count() as u32;
+    let row = |y: u32| (c.x0..c.x1).filter(|&x| ink(x, y)).count() as u32;
+    let (ih, iw) = (c.h().saturating_sub(2), c.w().saturating_sub(2));
+    walled(&mut (c.x0..c.x1), &column, ih)
+        && walled(&mut (c.x0..c.x1).rev(), &column, ih)
+        && walled(&mut (c.y0..c.y1), &row, iw)
+        && walled(&mut (c.y0..c.y1).rev(), &row, iw)
 }
 
 /// Whether the component's box holds ground enclosed by ink (a counter, at least
@@ -593,6 +626,35 @@ mod tests {
             assert_eq!(blocks.len(), 1, "{blocks:?}");
             assert!(blocks[0].x1 <= 30, "{extra}: {blocks:?}");
         }
+    }
+
+    /// A bold "B" of title type before its word: as dense as a swatch (more than half its box
+    /// with the halo is ink) and shorter than display type, but its bowls leave the right side
+    /// of its box open where a hollow box's walls close all four: it joins the word (left
+    /// out, it was squeezed and hidden under the floating title: "ubble by group").
+    #[test]
+    fn a_bold_letter_with_counters_joins_its_word() {
+        let (w, h) = (120, 60);
+        let mut l = vec![255u8; w * h];
+        let mut ink = |x0: usize, y0: usize, x1: usize, y1: usize| {
+            for y in y0..y1 {
+                l[y * w + x0..y * w + x1].fill(0);
+            }
+        };
+        // The "B", 11×14 at (10, 20): a stem, three bars, two bowls' right sides.
+        ink(10, 20, 14, 34);
+        for y in [20, 26, 31] {
+            ink(14, y, 19, y + 3);
+        }
+        ink(18, 22, 21, 26);
+        ink(18, 28, 21, 32);
+        // The rest of the word: stems 2 px wide, 2 px apart (stemmed letters).
+        for k in 0..4 {
+            ink(24 + 5 * k, 20, 26 + 5 * k, 34);
+        }
+        let blocks = detect(&l, w, h, [&[], &[]]);
+        assert_eq!(blocks.len(), 1, "{blocks:?}");
+        assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 41, "{blocks:?}");
     }
 
     /// A dashboard tile's big bold value ("899"): each digit is as dense as a swatch, but
