@@ -2,6 +2,9 @@
 //! problem, a non-zero exit, no panic, and no output or temporary file left behind. Inputs are
 //! made by each test in its own temporary folder.
 
+mod common;
+use common::{assert_fails, stderr};
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -12,21 +15,6 @@ fn run(dir: &Path, args: &[&str]) -> Output {
         .current_dir(dir)
         .output()
         .expect("the binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// A failed run: exit `code`, one line on stderr holding every word of `words`, no panic.
-fn assert_fails(out: &Output, code: i32, words: &[&str]) {
-    let err = stderr(out);
-    assert_eq!(out.status.code(), Some(code), "exit code; stderr: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err:?}");
-    for w in words {
-        assert!(err.contains(w), "stderr lacks {w:?}: {err}");
-    }
 }
 
 /// The folder holds exactly `names`: no output, no temporary file.

@@ -6,56 +6,19 @@
 
 mod common;
 
-use std::io::Write;
+use common::{assert_fails, bin, run_with_stdin, stderr};
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
-}
-
 /// Runs the binary in `dir` with `args`, stdin empty.
 fn run(dir: &Path, args: &[&str]) -> Output {
-    run_stdin(dir, args, Vec::new())
-}
-
-/// Runs the binary in `dir` with `input` on stdin, collecting stdout and stderr.
-fn run_stdin(dir: &Path, args: &[&str], input: Vec<u8>) -> Output {
-    let mut child = bin()
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdin = child.stdin.take().unwrap();
-    let feeder = std::thread::spawn(move || {
-        let _ = stdin.write_all(&input);
-    });
-    let out = child.wait_with_output().unwrap();
-    feeder.join().unwrap();
-    out
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    run_with_stdin(dir, args, Vec::new())
 }
 
 fn assert_ok(out: &Output) {
     assert_eq!(out.status.code(), Some(0), "stderr: {}", stderr(out));
-}
-
-/// A failed run: exit `code`, one line on stderr holding every word of `words`, no panic.
-fn assert_fails(out: &Output, code: i32, words: &[&str]) {
-    let err = stderr(out);
-    assert_eq!(out.status.code(), Some(code), "exit code; stderr: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err:?}");
-    for w in words {
-        assert!(err.contains(w), "stderr lacks {w:?}: {err}");
-    }
 }
 
 /// The names in `dir`, sorted.
@@ -170,7 +133,7 @@ fn one_picture_into_a_folder_keeps_its_name() {
     assert_ok(&out);
     assert_eq!(size_of_file(&dir.path().join("od/chart.png")), (50, 80));
     // From stdin there is no name: frames are numbered.
-    let out = run_stdin(
+    let out = run_with_stdin(
         dir.path(),
         &["-", "--width", "60", "-o", "piped/", "-q"],
         png_bytes(120, 80),

@@ -4,6 +4,9 @@
 //! success. Inputs are drawn by each test; frames are identified by the colour of a band along
 //! their top edge, which retargeting keeps in place.
 
+mod common;
+use common::{bin, run_with_stdin, stderr};
+
 use std::io::{Read, Write};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -66,35 +69,8 @@ fn which(img: &image::RgbaImage, tol: i32) -> Option<usize> {
     })
 }
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
-}
-
-/// Runs the binary in `dir` with `stdin` fed from `input`, collecting everything.
-fn run_with_stdin(dir: &Path, args: &[&str], input: Vec<u8>) -> Output {
-    let mut child = bin()
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdin = child.stdin.take().unwrap();
-    let feeder = std::thread::spawn(move || {
-        let _ = stdin.write_all(&input); // the binary may stop reading early
-    });
-    let out = child.wait_with_output().unwrap();
-    feeder.join().unwrap();
-    out
-}
-
 fn run(dir: &Path, args: &[&str]) -> Output {
     bin().args(args).current_dir(dir).output().unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn assert_ok(o: &Output) {

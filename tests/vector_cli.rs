@@ -1,6 +1,9 @@
 //! `--marks` and `--enhance*` on the command line: marks drawn where they go, one-line errors
 //! naming the file and line, exit codes, and sidecars found beside a folder of frames.
 
+mod common;
+use common::{assert_fails, stderr};
+
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -10,21 +13,6 @@ fn run(dir: &Path, args: &[&str]) -> Output {
         .current_dir(dir)
         .output()
         .expect("the binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// A failed run: exit `code`, one line on stderr holding every word of `words`, no panic.
-fn assert_fails(out: &Output, code: i32, words: &[&str]) {
-    let err = stderr(out);
-    assert_eq!(out.status.code(), Some(code), "exit code; stderr: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err:?}");
-    for w in words {
-        assert!(err.contains(w), "stderr lacks {w:?}: {err}");
-    }
 }
 
 fn assert_ok(out: &Output) {

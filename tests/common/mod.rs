@@ -1,4 +1,49 @@
-//! Helpers the watcher tests share.
+//! Helpers the integration tests share: a snapshot for the watcher, and running the binary
+//! and checking how it failed for the command-line tests (each test crate uses some).
+#![allow(dead_code)]
+
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+/// The binary under test.
+pub fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
+}
+
+/// Runs the binary in `dir` with `stdin` fed from `input`, collecting everything.
+pub fn run_with_stdin(dir: &Path, args: &[&str], input: Vec<u8>) -> Output {
+    let mut child = bin()
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let feeder = std::thread::spawn(move || {
+        let _ = stdin.write_all(&input); // the binary may stop reading early
+    });
+    let out = child.wait_with_output().unwrap();
+    feeder.join().unwrap();
+    out
+}
+
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A failed run: exit `code`, one line on stderr holding every word of `words`, no panic.
+pub fn assert_fails(out: &Output, code: i32, words: &[&str]) {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(code), "exit code; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err:?}");
+    for w in words {
+        assert!(err.contains(w), "stderr lacks {w:?}: {err}");
+    }
+}
 
 /// A small chart as PNG bytes: its dot position and band colour depend on `i`.
 pub fn snapshot(i: usize) -> Vec<u8> {
