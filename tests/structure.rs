@@ -757,6 +757,40 @@ fn a_sideways_axis_title_is_found() {
     );
 }
 
+/// A sideways title whose turned letters also read as upright "words", a few letters at a
+/// time, is one sideways block: floated as upright pieces, each would shrink apart from the
+/// others (chart-scatter-01's "Petal.Length" did, and took every label's float with it).
+#[test]
+fn a_sideways_title_is_not_taken_for_upright_pieces() {
+    let titles = [
+        "Petal.Length",
+        "Sepal.Width",
+        "Intersection size",
+        "Frequency",
+        "Count",
+    ];
+    for (size, title) in (14..=26)
+        .step_by(2)
+        .flat_map(|s| titles.map(|t| (s as f32, t)))
+    {
+        let mut word = Image::filled(Size::new(260, 34).unwrap(), [255; 4]);
+        draw_label(&mut word, 4.0, 2.0, size, title);
+        let mut img = Image::filled(Size::new(300, 300).unwrap(), [255; 4]);
+        for y in 0..34 {
+            for x in 0..260 {
+                img.set(16 + y, 280 - x, word.get(x, y));
+            }
+        }
+        rect(&mut img, 90, 20, 92, 280, [40, 40, 40, 255]);
+        let text = Structure::detect(img.as_ref()).text;
+        let on_title: Vec<&TextBlock> = text.iter().filter(|b| b.x0 < 60).collect();
+        assert!(
+            on_title.len() == 1 && on_title[0].sideways,
+            "{title} at {size}: {on_title:?}"
+        );
+    }
+}
+
 /// A column of tick labels set close is read upright, never as one sideways "word" (floated
 /// as one block its labels would leave their ticks).
 #[test]

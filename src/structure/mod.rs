@@ -70,6 +70,37 @@ fn rotated_text(
         .collect()
 }
 
+/// Most gap between upright pieces of one sideways word, as a share of its line height:
+/// the space between two letters.
+const LETTER_GAP: f64 = 0.15;
+
+/// Spread of heights (as a share of the tallest) above which upright blocks are not labels
+/// of one type set in a column: the pieces of a sideways word are its letters' widths.
+const PIECES_SPREAD: f64 = 0.25;
+
+/// Whether upright blocks, stacked top to bottom, are pieces of sideways `word` rather than
+/// a column of labels: they cover less than half its length (a few letters read upright),
+/// or they are at least two, of heights that spread more than [`PIECES_SPREAD`], with at
+/// least half of the gaps between neighbours no wider than [`LETTER_GAP`] (the gap of a
+/// word space or a dotted abbreviation may be wider; the leading between labels, set
+/// close, is about as wide).
+fn pieces_of_one_word<'a>(pieces: impl Iterator<Item = &'a TextBlock>, word: &TextBlock) -> bool {
+    let (line_height, length) = (word.line_height, word.y1 - word.y0);
+    let mut pieces: Vec<&TextBlock> = pieces.collect();
+    pieces.sort_by_key(|u| u.y0);
+    let gaps = pieces.windows(2).map(|p| p[1].y0.saturating_sub(p[0].y1));
+    let most = (LETTER_GAP * line_height as f64).max(1.0);
+    let touching = gaps.clone().filter(|&g| g as f64 <= most).count();
+    let (short, tall) = pieces.iter().fold((u32::MAX, 0), |(a, b), u| {
+        (a.min(u.y1 - u.y0), b.max(u.y1 - u.y0))
+    });
+    let covered: u32 = pieces.iter().map(|u| u.y1 - u.y0).sum();
+    2 * covered < length
+        || pieces.len() >= 2
+            && (tall - short) as f64 > PIECES_SPREAD * tall as f64
+            && 2 * touching >= gaps.count()
+}
+
 /// Least canvas side (pixels) taken as one data area by [`Regions::Affine`].
 const MIN_CANVAS_AREA_PX: f64 = 8.0;
 
@@ -98,18 +129,18 @@ impl Structure {
         // Text is found among solid lines only: a chain may run along the foot of a word, and
         // clearing a faint line's pixels would cut a texture into glyph-sized pieces.
         let mut text = text::detect(&l, w, h, [&horizontal, &vertical]);
-        // Sideways text only where nothing upright was read: a column of tick labels set close
-        // also reads as a sideways "word" (and floated as one, its labels would leave their
-        // ticks), so the upright reading wins every conflict, even over a sideways title's
-        // glyphs taken a few at a time for upright words.
-        let sideways: Vec<TextBlock> = rotated_text(&l, w, h, [&horizontal, &vertical])
-            .into_iter()
-            .filter(|s| {
-                text.iter()
-                    .all(|u| u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1)
-            })
-            .collect();
-        text.extend(sideways);
+        // A column of tick labels set close also reads as a sideways "word" (floated as one,
+        // its labels would leave their ticks), and a sideways title's glyphs, a few at a time,
+        // read as upright "words". The two differ in how the upright pieces stack: labels
+        // stand apart by their leading, pieces of one sideways word touch, letter to letter.
+        for s in rotated_text(&l, w, h, [&horizontal, &vertical]) {
+            let touch = |u: &TextBlock| !(u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1);
+            if text.iter().any(touch) && !pieces_of_one_word(text.iter().filter(|u| touch(u)), &s) {
+                continue;
+            }
+            text.retain(|u| !touch(u));
+            text.push(s);
+        }
         // A chain or a faint line crossing a text block is the foot or the top of its words.
         let clear = |line: &Line, across: fn(&TextBlock) -> [u32; 4]| {
             text.iter().all(|b| {
