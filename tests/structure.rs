@@ -791,6 +791,26 @@ fn a_sideways_title_is_not_taken_for_upright_pieces() {
     }
 }
 
+/// A y axis' single-digit tick labels are text, though no label has a second glyph to
+/// make a line with: left out, they are squeezed beside labels floated at their size.
+#[test]
+fn single_digit_tick_labels_are_text() {
+    let mut img = Image::filled(Size::new(200, 300).unwrap(), [255; 4]);
+    let labels = ["8", "6", "4", "2", "0"];
+    for (i, label) in labels.iter().enumerate() {
+        let y = 40 + 50 * i as u32;
+        draw_label(&mut img, 40.0, y as f32, 16.0, label);
+        rect(&mut img, 56, y + 8, 62, y + 10, [40, 40, 40, 255]);
+    }
+    rect(&mut img, 62, 20, 64, 290, [40, 40, 40, 255]);
+    let text = Structure::detect(img.as_ref()).text;
+    assert_eq!(
+        text.iter().filter(|b| !b.sideways && b.x1 <= 58).count(),
+        labels.len(),
+        "{text:?}"
+    );
+}
+
 /// A column of tick labels set close is read upright, never as one sideways "word" (floated
 /// as one block its labels would leave their ticks).
 #[test]

@@ -113,7 +113,16 @@ pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<T
             glyphs.push((c, false));
         }
     }
-    let lines = group_lines(glyphs);
+    // No stroke within half a glyph's height above or below it, across its width.
+    let clear = |c: &Comp| {
+        let reach = c.h() / 2;
+        let rows = (c.y0.saturating_sub(reach)..c.y0).chain(c.y1..(c.y1 + reach).min(h as u32));
+        rows.into_iter().all(|y| {
+            let row = &stroke[y as usize * w..][..w];
+            !row[c.x0 as usize..c.x1 as usize].contains(&true)
+        })
+    };
+    let lines = group_lines(glyphs, clear);
     merge_blocks(lines)
 }
 
@@ -381,7 +390,10 @@ fn encloses_ground(l: &[u8], w: usize, bg: i16, c: &Comp) -> bool {
 /// joins a line through a neighbour with stems, never another stemless one: the trailing "s"
 /// of "Crimes" and the "oy" of "Unemployment" belong to their words (left out, they are
 /// squeezed as ground and the word is cut), while a cluster of dots still makes no line.
-fn group_lines(mut comps: Vec<(Comp, bool)>) -> Vec<(Comp, u32, usize)> {
+fn group_lines(
+    mut comps: Vec<(Comp, bool)>,
+    clear: impl Fn(&Comp) -> bool,
+) -> Vec<(Comp, u32, usize)> {
     comps.sort_by_key(|(c, _)| (c.x0, c.y0));
     let n = comps.len();
     let mut parent: Vec<usize> = (0..n).collect();
@@ -450,9 +462,24 @@ fn group_lines(mut comps: Vec<(Comp, bool)>) -> Vec<(Comp, u32, usize)> {
                 || c.x0.abs_diff(o.x0) <= 1
                 || c.x1.abs_diff(o.x1) <= 1)
     };
-    let found: Vec<_> = lone
-        .into_iter()
-        .filter(|(c, lh, _, _)| lines.iter().any(|(o, olh, _, _)| in_line(c, *lh, o, *olh)))
+    // A column of lone glyphs alone is text too: a y axis' single-digit tick labels ("2",
+    // "4", "6"), at least three one above the other, aligned by an edge, each with ground
+    // above and below it (pieces of small multiples' maps line up too, amid other strokes;
+    // two glyphs may line up by chance).
+    let in_column = |c: &Comp, o: &Comp| {
+        let apart = c.y0 >= o.y1 || o.y0 >= c.y1;
+        let (lo, hi) = (c.h().min(o.h()), c.h().max(o.h()));
+        apart
+            && hi * 4 <= lo * 5
+            && (c.x0.abs_diff(o.x0) <= 1 || c.x1.abs_diff(o.x1) <= 1)
+            && clear(o)
+    };
+    let column = |c: &Comp| clear(c) && lone.iter().filter(|o| in_column(c, &o.0)).count() >= 2;
+    let found: Vec<_> = (lone.iter())
+        .filter(|(c, lh, _, _)| {
+            lines.iter().any(|(o, olh, _, _)| in_line(c, *lh, o, *olh)) || column(c)
+        })
+        .copied()
         .collect();
     lines.extend(found);
     lines.into_iter().map(|(c, lh, k, _)| (c, lh, k)).collect()
