@@ -7,9 +7,8 @@
 //! Limits are exercised both ways where it is cheap: the input just past a limit is refused,
 //! the input at the limit is accepted, so a check that refuses everything fails here too.
 
-use std::io::Write;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 use vizretarget::io::{decode_still, decode_still_with, open_input_with, GifSource, InputFormat};
 use vizretarget::stream::FrameSource;
 use vizretarget::{Error, Limit, Limits};
@@ -17,66 +16,20 @@ use vizretarget::{Error, Limit, Limits};
 // ---------------------------------------------------------------------------------------------
 // Running the binary.
 
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
-
-fn run_stdin(dir: &Path, args: &[&str], input: &[u8]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vizretarget"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let mut stdin = child.stdin.take().unwrap();
-    let bytes = input.to_vec();
-    // A writer thread: the binary may stop reading early (an error), which must not block us.
-    let writer = std::thread::spawn(move || {
-        let _ = stdin.write_all(&bytes);
-    });
-    let out = child.wait_with_output().unwrap();
-    writer.join().unwrap();
-    out
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+mod common;
+use common::{assert_only, run, run_with_stdin, stderr};
 
 /// Exit 1, exactly one line on stderr holding every one of `words`, no panic.
 fn assert_fails(out: &Output, words: &[&str]) {
+    common::assert_fails(out, 1, words);
     let err = stderr(out);
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err:?}");
     assert!(err.starts_with("vizretarget: error: "), "{err}");
-    for w in words {
-        assert!(err.contains(w), "stderr lacks {w:?}: {err}");
-    }
 }
 
 fn assert_ok(out: &Output) {
     let err = stderr(out);
     assert_eq!(out.status.code(), Some(0), "stderr: {err}");
     assert!(!err.contains("error"), "{err}");
-}
-
-/// The folder holds exactly `names`: no output and no temporary file beside the inputs.
-fn assert_only(dir: &Path, names: &[&str]) {
-    let mut found: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    found.sort();
-    let mut want: Vec<String> = names.iter().map(|s| s.to_string()).collect();
-    want.sort();
-    assert_eq!(found, want, "files in {}", dir.display());
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) {
@@ -460,7 +413,7 @@ fn gif_declaring_65535_square_is_refused_from_its_header() {
     );
     assert_fails(&out, &["huge.gif", "65535x65535", "out of range"]);
     // The same from stdin.
-    let out = run_stdin(
+    let out = run_with_stdin(
         dir.path(),
         &["-", "--size", "100x100", "-o", "out.gif"],
         &gif,
@@ -597,7 +550,7 @@ fn gif_on_stdin_past_the_frame_limit_keeps_the_frames_before() {
     // A pipe cannot be counted first: the frame past the limit ends the run with an error,
     // and the output holds the frames before it, complete (documented in --help).
     let dir = tempfile::tempdir().unwrap();
-    let out = run_stdin(
+    let out = run_with_stdin(
         dir.path(),
         &[
             "-",
@@ -609,7 +562,7 @@ fn gif_on_stdin_past_the_frame_limit_keeps_the_frames_before() {
             "3",
             "-q",
         ],
-        &gif_frames(5),
+        gif_frames(5),
     );
     assert_fails(&out, &["stdin", "past 3 frames", "--max-frames"]);
     assert_eq!(gif_frame_count(&dir.path().join("out.gif")), 3);
@@ -731,7 +684,7 @@ fn raw_short_last_frame_on_stdin() {
     let dir = tempfile::tempdir().unwrap();
     let mut raw = raw_frames(3, 60, 40);
     raw.extend_from_slice(&[9; 100]);
-    let out = run_stdin(
+    let out = run_with_stdin(
         dir.path(),
         &[
             "-",
@@ -803,10 +756,10 @@ fn raw_stdin_frame_limit_is_exact() {
             "-q",
         ]
     };
-    let out = run_stdin(dir.path(), &args("three.gif"), &raw_frames(3, 60, 40));
+    let out = run_with_stdin(dir.path(), &args("three.gif"), raw_frames(3, 60, 40));
     assert_fails(&out, &["stdin", "past 2 frames", "--max-frames"]);
     assert_eq!(gif_frame_count(&dir.path().join("three.gif")), 2);
-    let out = run_stdin(dir.path(), &args("two.gif"), &raw_frames(2, 60, 40));
+    let out = run_with_stdin(dir.path(), &args("two.gif"), raw_frames(2, 60, 40));
     assert_ok(&out);
     assert_eq!(gif_frame_count(&dir.path().join("two.gif")), 2);
 }
@@ -814,7 +767,7 @@ fn raw_stdin_frame_limit_is_exact() {
 #[test]
 fn raw_empty_stdin_names_the_input() {
     let dir = tempfile::tempdir().unwrap();
-    let out = run_stdin(
+    let out = run_with_stdin(
         dir.path(),
         &[
             "-",
@@ -885,7 +838,7 @@ fn y4m_header_that_is_not_text() {
 #[test]
 fn y4m_stdin_frame_limit() {
     let dir = tempfile::tempdir().unwrap();
-    let out = run_stdin(
+    let out = run_with_stdin(
         dir.path(),
         &[
             "-",
@@ -897,7 +850,7 @@ fn y4m_stdin_frame_limit() {
             "2",
             "-q",
         ],
-        &y4m(3),
+        y4m(3),
     );
     assert_fails(&out, &["stdin", "past 2 frames"]);
     assert_eq!(gif_frame_count(&dir.path().join("out.gif")), 2);
@@ -907,7 +860,7 @@ fn y4m_stdin_frame_limit() {
 // A stream of PNGs on stdin.
 
 fn png_stream_run(dir: &Path, input: &[u8]) -> Output {
-    run_stdin(
+    run_with_stdin(
         dir,
         &["-", "--size", "150x200", "-o", "out.gif", "-q"],
         input,

@@ -3,31 +3,9 @@
 //! made by each test in its own temporary folder.
 
 mod common;
-use common::{assert_fails, stderr};
+use common::{assert_fails, assert_only, run, stderr};
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-/// Runs the binary in `dir` with `args`.
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
-
-/// The folder holds exactly `names`: no output, no temporary file.
-fn assert_only(dir: &Path, names: &[&str]) {
-    let mut found: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    found.sort();
-    let mut want: Vec<String> = names.iter().map(|s| s.to_string()).collect();
-    want.sort();
-    assert_eq!(found, want, "files left in {}", dir.display());
-}
+use std::path::PathBuf;
 
 /// A 300x200 chart-like picture: white, a blue disc, a red bar, a grey axis.
 fn chart(w: u32, h: u32) -> image::RgbImage {

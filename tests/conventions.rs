@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{assert_fails, bin, run_with_stdin, stderr};
+use common::{assert_fails, bin, listing, run_with_stdin, stderr};
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -19,16 +19,6 @@ fn run(dir: &Path, args: &[&str]) -> Output {
 
 fn assert_ok(out: &Output) {
     assert_eq!(out.status.code(), Some(0), "stderr: {}", stderr(out));
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// A chart-like picture: white, a blue disc, a red bar, a grey axis.
@@ -479,32 +469,25 @@ fn help_says_which_folders_are_created_and_what_debug_dir_writes() {
 #[test]
 fn memory_limit_hint_suggests_what_is_needed() {
     let (dir, _) = folder_with_png();
-    let out = run(
-        dir.path(),
-        &[
+    let with_limit = |limit: &str| {
+        let args = [
             "in.png",
             "--width",
             "60",
             "--memory-limit",
-            "1K",
+            limit,
             "-o",
             "o.png",
-        ],
-    );
+        ];
+        run(dir.path(), &args)
+    };
+    let out = with_limit("1K");
     assert_fails(&out, 1, &["needs about", "raise it with --memory-limit"]);
     let err = stderr(&out);
     assert!(!err.contains("e.g. 4G"), "{err}");
-    let needed = err.split("needs about ").nth(1).unwrap();
-    let needed: f64 = needed.split(' ').next().unwrap().parse().unwrap();
-    let unit = err
-        .split("needs about ")
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .nth(1)
-        .unwrap()
-        .trim_end_matches(',');
-    let mib = match unit {
+    let mut needs = err.split("needs about ").nth(1).unwrap().split(' ');
+    let needed: f64 = needs.next().unwrap().parse().unwrap();
+    let mib = match needs.next().unwrap().trim_end_matches(',') {
         "MiB" => needed,
         "GiB" => needed * 1024.0,
         "KiB" => needed / 1024.0,
@@ -524,19 +507,7 @@ fn memory_limit_hint_suggests_what_is_needed() {
     };
     assert!(suggested >= mib && suggested < mib + 1.5, "{err}");
     // And it is enough.
-    let out = run(
-        dir.path(),
-        &[
-            "in.png",
-            "--width",
-            "60",
-            "--memory-limit",
-            value,
-            "-o",
-            "o.png",
-        ],
-    );
-    assert_ok(&out);
+    assert_ok(&with_limit(value));
 }
 
 // 13. GIFs with an extension block of an unknown type, as browsers show them.

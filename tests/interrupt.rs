@@ -11,6 +11,8 @@
 
 #![cfg(unix)]
 
+mod common;
+use common::listing;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
@@ -197,16 +199,6 @@ fn wait_blocked_in_read(child: &Child) {
     wait_until("a thread to block reading stdin", || {
         blocked_in(pid, None, libc::SYS_read)
     });
-}
-
-/// Names in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// A whole GIF: parses to its trailer; the frames as a viewer composites them, each checked

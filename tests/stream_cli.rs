@@ -5,7 +5,7 @@
 //! their top edge, which retargeting keeps in place.
 
 mod common;
-use common::{bin, run_with_stdin, stderr};
+use common::{bin, listing, run, run_with_stdin, stderr};
 
 use std::io::{Read, Write};
 use std::path::Path;
@@ -69,24 +69,10 @@ fn which(img: &image::RgbaImage, tol: i32) -> Option<usize> {
     })
 }
 
-fn run(dir: &Path, args: &[&str]) -> Output {
-    bin().args(args).current_dir(dir).output().unwrap()
-}
-
 fn assert_ok(o: &Output) {
     let e = stderr(o);
     assert!(o.status.success(), "exit {:?}: {e}", o.status.code());
     assert!(!e.contains("panicked"), "{e}");
-}
-
-/// The files in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// Splits raw RGBA output into frames and identifies each.
@@ -490,7 +476,7 @@ fn png_stream_from_stdin_to_a_png_sequence() {
             "png",
             "-q",
         ],
-        (0..3).flat_map(|i| png(&frame(i))).collect(),
+        (0..3).flat_map(|i| png(&frame(i))).collect::<Vec<u8>>(),
     );
     assert_ok(&out);
     let back = run_with_stdin(

@@ -2,18 +2,10 @@
 //! naming the file and line, exit codes, and sidecars found beside a folder of frames.
 
 mod common;
-use common::{assert_fails, stderr};
+use common::{assert_fails, run, stderr};
 
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vizretarget"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+use std::process::Output;
 
 fn assert_ok(out: &Output) {
     assert_eq!(out.status.code(), Some(0), "stderr: {}", stderr(out));

@@ -11,8 +11,14 @@ pub fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_vizretarget"))
 }
 
+/// Runs the binary in `dir` with `args`, no stdin, collecting everything.
+pub fn run(dir: &Path, args: &[&str]) -> Output {
+    bin().args(args).current_dir(dir).output().unwrap()
+}
+
 /// Runs the binary in `dir` with `stdin` fed from `input`, collecting everything.
-pub fn run_with_stdin(dir: &Path, args: &[&str], input: Vec<u8>) -> Output {
+pub fn run_with_stdin(dir: &Path, args: &[&str], input: impl AsRef<[u8]>) -> Output {
+    let input = input.as_ref().to_vec();
     let mut child = bin()
         .args(args)
         .current_dir(dir)
@@ -28,6 +34,23 @@ pub fn run_with_stdin(dir: &Path, args: &[&str], input: Vec<u8>) -> Output {
     let out = child.wait_with_output().unwrap();
     feeder.join().unwrap();
     out
+}
+
+/// The names in `dir` (hidden ones too), sorted.
+pub fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// The folder holds exactly `names`: no output left beside the inputs, no temporary file.
+pub fn assert_only(dir: &Path, names: &[&str]) {
+    let mut want: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+    want.sort();
+    assert_eq!(listing(dir), want, "files in {}", dir.display());
 }
 
 pub fn stderr(out: &Output) -> String {
