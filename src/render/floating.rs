@@ -752,44 +752,15 @@ pub(crate) fn area_marks(
                     if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
                         strong.push(colour);
                     }
-                    seen[start] = true;
-                    stack.push(start);
-                    let (mut x0, mut y0, mut x1, mut y1) = (c, r, c + 1, r + 1);
-                    let mut cells = 0usize;
-                    let (mut sum_x, mut sum_y) = (0.0f64, 0.0f64);
-                    while let Some(i) = stack.pop() {
-                        let (x, y) = (i % gw, i / gw);
-                        cells += 1;
-                        (sum_x, sum_y) = (sum_x + x as f64 + 0.5, sum_y + y as f64 + 0.5);
-                        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
-                        for (dx, dy) in [
-                            (-1i64, 0i64),
-                            (1, 0),
-                            (0, -1),
-                            (0, 1),
-                            (-1, -1),
-                            (1, 1),
-                            (-1, 1),
-                            (1, -1),
-                        ] {
-                            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                            if nx < c0 as i64
-                                || ny < r0 as i64
-                                || nx >= c1 as i64
-                                || ny >= r1 as i64
-                            {
-                                continue;
-                            }
-                            let j = ny as usize * gw + nx as usize;
-                            if !seen[j]
-                                && imp[j] >= least
-                                && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
-                            {
-                                seen[j] = true;
-                                stack.push(j);
-                            }
-                        }
-                    }
+                    let window = [c0, r0, c1, r1];
+                    let same = |j: usize| {
+                        imp[j] >= least && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
+                    };
+                    let Blob {
+                        cells: [x0, y0, x1, y1],
+                        count: cells,
+                        mean: (mx, my),
+                    } = flood(start, gw, window, &mut seen, &mut stack, same);
                     let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
                     let bbox = ink_box(
                         src,
@@ -806,7 +777,6 @@ pub(crate) fn area_marks(
                     // centred in its box): a shape that is not may be anything (a group of cells,
                     // a piece of a map) and follows the map, as a linear resize would draw it.
                     let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
-                    let (mx, my) = (sum_x / cells as f64, sum_y / cells as f64);
                     let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
                         && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
                     let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
@@ -897,6 +867,63 @@ fn median_importance(imp: &[f32], gw: usize, [c0, r0, c1, r1]: [usize; 4]) -> f3
         }
     }
     0.0
+}
+
+/// A blob of map cells: its box `[x0, y0, x1, y1)` in cells, its number of cells and the
+/// mean of their centres.
+struct Blob {
+    cells: [usize; 4],
+    count: usize,
+    mean: (f64, f64),
+}
+
+/// The 8-connected blob of cells around `start` (a map `gw` cells wide) inside `[c0, r0, c1,
+/// r1)` whose cells pass `same`; each is marked in `seen`. `stack` is scratch space.
+fn flood(
+    start: usize,
+    gw: usize,
+    [c0, r0, c1, r1]: [usize; 4],
+    seen: &mut [bool],
+    stack: &mut Vec<usize>,
+    same: impl Fn(usize) -> bool,
+) -> Blob {
+    let (c, r) = (start % gw, start / gw);
+    seen[start] = true;
+    stack.push(start);
+    let (mut x0, mut y0, mut x1, mut y1) = (c, r, c + 1, r + 1);
+    let mut count = 0usize;
+    let (mut sum_x, mut sum_y) = (0.0f64, 0.0f64);
+    while let Some(i) = stack.pop() {
+        let (x, y) = (i % gw, i / gw);
+        count += 1;
+        (sum_x, sum_y) = (sum_x + x as f64 + 0.5, sum_y + y as f64 + 0.5);
+        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1));
+        for (dx, dy) in [
+            (-1i64, 0i64),
+            (1, 0),
+            (0, -1),
+            (0, 1),
+            (-1, -1),
+            (1, 1),
+            (-1, 1),
+            (1, -1),
+        ] {
+            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+            if nx < c0 as i64 || ny < r0 as i64 || nx >= c1 as i64 || ny >= r1 as i64 {
+                continue;
+            }
+            let j = ny as usize * gw + nx as usize;
+            if !seen[j] && same(j) {
+                seen[j] = true;
+                stack.push(j);
+            }
+        }
+    }
+    Blob {
+        cells: [x0, y0, x1, y1],
+        count,
+        mean: (sum_x / count as f64, sum_y / count as f64),
+    }
 }
 
 /// The source colour at the centre of VSM cell `(x, y)` (cells are `s` pixels wide).
