@@ -261,7 +261,7 @@ fn glyph_ink(l: &[u8], w: usize, bg: i16, c: &mut Comp) -> bool {
     for x in c.x0..c.x1 {
         let mut run = 0;
         for y in c.y0..c.y1 {
-            if (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16 {
+            if is_ink(l, w, bg, x, y) {
                 ink += 1;
                 run += 1;
                 stems |= run >= need;
@@ -272,6 +272,11 @@ fn glyph_ink(l: &[u8], w: usize, bg: i16, c: &mut Comp) -> bool {
     }
     c.ink = ink as f32 / (c.w() * c.h()) as f32;
     stems
+}
+
+/// Whether pixel `(x, y)` of a `w`-wide luminance image is ink on ground `bg`.
+fn is_ink(l: &[u8], w: usize, bg: i16, x: u32, y: u32) -> bool {
+    (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16
 }
 
 /// The ground a component lies on: the most common luminance on its box's border.
@@ -295,8 +300,7 @@ fn ground(l: &[u8], w: usize, c: &Comp) -> i16 {
 /// swatch's fill beside them (joined to the label next to it, a sliver of the swatch would
 /// float with the label's text).
 fn rims_a_fill(l: &[u8], w: usize, h: usize, c: &Comp, bg: i16) -> bool {
-    let ink =
-        |x: u32, y: u32| (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16;
+    let ink = |x: u32, y: u32| is_ink(l, w, bg, x, y);
     let most = |n: usize, of: u32| 2 * n > of as usize;
     let column = |x: u32| most((c.y0..c.y1).filter(|&y| ink(x, y)).count(), c.h());
     let row = |y: u32| most((c.x0..c.x1).filter(|&x| ink(x, y)).count(), c.w());
@@ -314,8 +318,7 @@ const WALL_SHARE: u32 = 70;
 /// Whether ink walls the component's box on all four sides (a hollow box symbol): on each
 /// side, the outermost row or column holding ink has ink along [`WALL_SHARE`] % of it.
 fn frames_its_box(l: &[u8], w: usize, bg: i16, c: &Comp) -> bool {
-    let ink =
-        |x: u32, y: u32| (l[y as usize * w + x as usize] as i16 - bg).abs() > STROKE_RANGE as i16;
+    let ink = |x: u32, y: u32| is_ink(l, w, bg, x, y);
     let walled = |line: &mut dyn Iterator<Item = u32>, along: &dyn Fn(u32) -> u32, len: u32| {
         line.map(along)
             .find(|&n| n > 0)
