@@ -811,6 +811,36 @@ fn single_digit_tick_labels_are_text() {
     );
 }
 
+/// A tick label beside a sideways title whose letters also read upright stays a label of
+/// its own: joined to the title's upright piece, it was lost with it when the sideways
+/// reading won, and its column ("6", "4", "2") broken (chart-scatter-01's "4").
+#[test]
+fn a_tick_label_beside_a_sideways_title_stays_in_its_column() {
+    let mut word = Image::filled(Size::new(260, 34).unwrap(), [255; 4]);
+    draw_label(&mut word, 4.0, 2.0, 24.0, "Frequency");
+    let mut img = Image::filled(Size::new(300, 300).unwrap(), [255; 4]);
+    for y in 0..34 {
+        for x in 0..260 {
+            img.set(16 + y, 280 - x, word.get(x, y));
+        }
+    }
+    let labels = ["8", "6", "4", "2", "0"];
+    for (i, label) in labels.iter().enumerate() {
+        let y = 40 + 50 * i as u32;
+        draw_label(&mut img, 48.0, y as f32, 16.0, label);
+        rect(&mut img, 64, y + 8, 70, y + 10, [40, 40, 40, 255]);
+    }
+    rect(&mut img, 70, 20, 72, 290, [40, 40, 40, 255]);
+    let text = Structure::detect(img.as_ref()).text;
+    let digits = text
+        .iter()
+        .filter(|b| !b.sideways && b.x0 >= 44 && b.x1 <= 66)
+        .count();
+    assert_eq!(digits, labels.len(), "{text:?}");
+    let title = text.iter().filter(|b| b.sideways && b.x1 <= 46).count();
+    assert_eq!(title, 1, "{text:?}");
+}
+
 /// A column of tick labels set close is read upright, never as one sideways "word" (floated
 /// as one block its labels would leave their ticks).
 #[test]

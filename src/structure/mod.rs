@@ -56,7 +56,7 @@ fn rotated_text(
             }
         }
     }
-    text::detect(&t, h, w, [vertical, horizontal])
+    text::detect(&t, h, w, [vertical, horizontal], &[])
         .into_iter()
         .map(|b| TextBlock {
             x0: b.y0,
@@ -128,19 +128,31 @@ impl Structure {
         let (mut horizontal, mut vertical) = (h_found.solid, v_found.solid);
         // Text is found among solid lines only: a chain may run along the foot of a word, and
         // clearing a faint line's pixels would cut a texture into glyph-sized pieces.
-        let mut text = text::detect(&l, w, h, [&horizontal, &vertical]);
+        let upright =
+            |sideways: &[TextBlock]| text::detect(&l, w, h, [&horizontal, &vertical], sideways);
+        let mut text = upright(&[]);
         // A column of tick labels set close also reads as a sideways "word" (floated as one,
         // its labels would leave their ticks), and a sideways title's glyphs, a few at a time,
         // read as upright "words". The two differ in how the upright pieces stack: labels
         // stand apart by their leading, pieces of one sideways word touch, letter to letter.
-        for s in rotated_text(&l, w, h, [&horizontal, &vertical]) {
-            let touch = |u: &TextBlock| !(u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1);
-            if text.iter().any(touch) && !pieces_of_one_word(text.iter().filter(|u| touch(u)), &s) {
-                continue;
-            }
-            text.retain(|u| !touch(u));
-            text.push(s);
+        let touch = |s: &TextBlock, u: &TextBlock| {
+            !(u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1)
+        };
+        let sideways: Vec<TextBlock> = rotated_text(&l, w, h, [&horizontal, &vertical])
+            .into_iter()
+            .filter(|s| {
+                let mut pieces = text.iter().filter(|u| touch(s, u)).peekable();
+                pieces.peek().is_none() || pieces_of_one_word(pieces, s)
+            })
+            .collect();
+        // Where a sideways word was read in upright pieces, those pieces may have taken in a
+        // glyph beside it (a tick label next to the title's letter): read the upright text
+        // again without the sideways words' glyphs.
+        if sideways.iter().any(|s| text.iter().any(|u| touch(s, u))) {
+            text = upright(&sideways);
         }
+        text.retain(|u| !sideways.iter().any(|s| touch(s, u)));
+        text.extend(sideways);
         // A chain or a faint line crossing a text block is the foot or the top of its words.
         let clear = |line: &Line, across: fn(&TextBlock) -> [u32; 4]| {
             text.iter().all(|b| {

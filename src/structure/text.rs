@@ -72,11 +72,25 @@ impl Comp {
 }
 
 /// Text blocks of a `w × h` luminance image whose thin lines are `lines` (horizontal, vertical).
-pub(crate) fn detect(l: &[u8], w: usize, h: usize, lines: [&[Line]; 2]) -> Vec<TextBlock> {
+/// Components centred inside a block of `skip` (text read another way) are left out.
+pub(crate) fn detect(
+    l: &[u8],
+    w: usize,
+    h: usize,
+    lines: [&[Line]; 2],
+    skip: &[TextBlock],
+) -> Vec<TextBlock> {
     let mut stroke = stroke_mask(l, w, h);
     clear_lines(&mut stroke, w, h, lines);
     let mut glyphs = Vec::new();
     for mut c in components(&stroke, w, h) {
+        let (cx, cy) = ((c.x0 + c.x1) / 2, (c.y0 + c.y1) / 2);
+        if skip
+            .iter()
+            .any(|b| (b.x0..b.x1).contains(&cx) && (b.y0..b.y1).contains(&cy))
+        {
+            continue;
+        }
         let bg = ground(l, w, &c);
         if rims_a_fill(l, w, h, &c, bg) {
             continue;
@@ -558,7 +572,7 @@ mod tests {
     fn merged_bold_letters_join_their_word() {
         // 30×12 with three holes: 270 of 32×14 pixels, 0.60.
         let (l, w, h) = word_with(30, 3);
-        let blocks = detect(&l, w, h, [&[], &[]]);
+        let blocks = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(blocks.len(), 1, "{blocks:?}");
         assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 60, "{blocks:?}");
     }
@@ -580,13 +594,13 @@ mod tests {
     #[test]
     fn a_heavy_lone_stem_joins_its_word() {
         let (l, w, h) = bars(&[10, 15, 20, 25, 48, 53, 58, 63], 2);
-        let without = detect(&l, w, h, [&[], &[]]);
+        let without = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(without.len(), 2, "two words 21 px apart: {without:?}");
         let (mut l, w, h) = (l, w, h);
         for y in 20..34 {
             l[y * w + 36..y * w + 39].fill(0);
         }
-        let blocks = detect(&l, w, h, [&[], &[]]);
+        let blocks = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(blocks.len(), 1, "{blocks:?}");
         assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 65, "{blocks:?}");
     }
@@ -616,7 +630,7 @@ mod tests {
             zero(&mut l, w, x, 20);
             zero(&mut l, w, x + 8, 20);
         }
-        let row = detect(&l, w, h, [&[], &[]]);
+        let row = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(row.len(), 3, "{row:?}");
         assert!(row.iter().any(|b| b.x0 <= 10 && b.x1 <= 20), "{row:?}");
         // A column: "10" above "0", right edges aligned.
@@ -625,7 +639,7 @@ mod tests {
             zero(&mut l, w, 92, y);
         }
         zero(&mut l, w, 84, 20);
-        let column = detect(&l, w, h, [&[], &[]]);
+        let column = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(column.len(), 2, "{column:?}");
         // Alone, and a tick centred under a label: no text but the label.
         let mut l = vec![255u8; w * h];
@@ -635,7 +649,7 @@ mod tests {
         for y in 34..44 {
             l[y * w + 66] = 0;
         }
-        let alone = detect(&l, w, h, [&[], &[]]);
+        let alone = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(alone.len(), 1, "{alone:?}");
         assert!(alone[0].x0 >= 59 && alone[0].y1 <= 32, "{alone:?}");
     }
@@ -644,7 +658,7 @@ mod tests {
     #[test]
     fn a_row_of_thin_bars_is_not_text() {
         let (l, w, h) = bars(&[10, 18, 26, 34, 42, 50], 4);
-        assert_eq!(detect(&l, w, h, [&[], &[]]), vec![]);
+        assert_eq!(detect(&l, w, h, [&[], &[]], &[]), vec![]);
     }
 
     /// A filled swatch beside a word (a legend's) stays out of it, as does a dense square.
@@ -652,7 +666,7 @@ mod tests {
     fn swatches_and_dense_squares_stay_out_of_words() {
         for (extra, holes) in [(30, 0), (12, 1)] {
             let (l, w, h) = word_with(extra, holes);
-            let blocks = detect(&l, w, h, [&[], &[]]);
+            let blocks = detect(&l, w, h, [&[], &[]], &[]);
             assert_eq!(blocks.len(), 1, "{blocks:?}");
             assert!(blocks[0].x1 <= 30, "{extra}: {blocks:?}");
         }
@@ -682,7 +696,7 @@ mod tests {
         for k in 0..4 {
             ink(24 + 5 * k, 20, 26 + 5 * k, 34);
         }
-        let blocks = detect(&l, w, h, [&[], &[]]);
+        let blocks = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(blocks.len(), 1, "{blocks:?}");
         assert!(blocks[0].x0 <= 10 && blocks[0].x1 >= 41, "{blocks:?}");
     }
@@ -707,7 +721,7 @@ mod tests {
                 }
             }
         }
-        let blocks = detect(&l, w, h, [&[], &[]]);
+        let blocks = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(blocks.len(), 1, "{blocks:?}");
         assert!(blocks[0].x0 <= 20 && blocks[0].x1 >= 136, "{blocks:?}");
     }
@@ -728,6 +742,6 @@ mod tests {
                 }
             }
         }
-        assert_eq!(detect(&l, w, h, [&[], &[]]), vec![]);
+        assert_eq!(detect(&l, w, h, [&[], &[]], &[]), vec![]);
     }
 }
