@@ -14,7 +14,7 @@ use crate::baseline::{retarget_with, Mapping, Method, MethodOutput};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::metrics::MetricsTable;
-use crate::retargeter::Options;
+use crate::retarget::Options;
 use ab_glyph::{point, Font, FontRef, PxScale, ScaleFont};
 
 /// The bundled label font (see `assets/fonts/README.md`).

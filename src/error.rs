@@ -1,5 +1,6 @@
 //! The library's one error type. Variants are the ones a caller acts on differently.
 
+use crate::size::{InvalidSize, Size, MAX_SIDE};
 use std::path::PathBuf;
 
 /// Everything that can go wrong in the library.
@@ -15,15 +16,15 @@ pub enum Error {
     InvalidOptions(String),
 
     /// A width or height is zero or above [`crate::MAX_SIDE`].
-    #[error("invalid size {width}x{height}: each side must be between 1 and {max}", max = crate::MAX_SIDE)]
+    #[error("invalid size {width}x{height}: each side must be between 1 and {max}", max = MAX_SIDE)]
     InvalidSize { width: u32, height: u32 },
 
     /// A frame's size differs from the stream's.
     #[error("frame {frame_index} is {got}, but the stream is {expected}")]
     FrameSizeMismatch {
         frame_index: u64,
-        expected: crate::Size,
-        got: crate::Size,
+        expected: Size,
+        got: Size,
     },
 
     /// An input could not be decoded (corrupt, truncated or unsupported).
@@ -66,7 +67,7 @@ pub enum Error {
     #[error("{}: {message}", path.display())]
     LimitExceeded {
         path: PathBuf,
-        limit: crate::Limit,
+        limit: Limit,
         message: String,
         needed: Option<u64>,
     },
@@ -83,6 +84,27 @@ pub enum Error {
         expected: usize,
         got: usize,
     },
+}
+
+/// Which limit an input went past ([`Error::LimitExceeded`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Limit {
+    /// [`crate::Limits::max_pixels`].
+    Pixels,
+    /// [`crate::Limits::max_frames`].
+    Frames,
+    /// [`crate::Limits::memory_budget`].
+    Memory,
+}
+
+impl From<InvalidSize> for Error {
+    fn from(e: InvalidSize) -> Error {
+        Error::InvalidSize {
+            width: e.width,
+            height: e.height,
+        }
+    }
 }
 
 impl std::fmt::Debug for Error {

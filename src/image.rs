@@ -3,39 +3,7 @@
 //! Every stage works on straight (not premultiplied) RGBA8 in rows; the renderer premultiplies on
 //! the fly while filtering so that transparent pixels never bleed colour into their neighbours.
 
-use crate::error::Error;
-
-/// Width and height in pixels. Both are at least 1 once validated by [`Size::new`].
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
-pub struct Size {
-    pub width: u32,
-    pub height: u32,
-}
-
-/// Largest side the library accepts, for inputs and targets alike: 16384 px, as most GPUs and
-/// image tools. Bigger values are almost always a typo and would allocate gigabytes.
-pub const MAX_SIDE: u32 = 16384;
-
-impl Size {
-    /// A checked size: both sides in `1..=MAX_SIDE`.
-    pub fn new(width: u32, height: u32) -> Result<Size, Error> {
-        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
-            return Err(Error::InvalidSize { width, height });
-        }
-        Ok(Size { width, height })
-    }
-
-    /// Number of pixels.
-    pub fn area(self) -> usize {
-        self.width as usize * self.height as usize
-    }
-}
-
-impl std::fmt::Display for Size {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}x{}", self.width, self.height)
-    }
-}
+pub use crate::size::{Size, MAX_SIDE};
 
 /// An owned RGBA8 image, rows top to bottom, no padding.
 #[derive(Clone, PartialEq, Eq)]

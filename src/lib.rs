@@ -41,7 +41,9 @@
 mod error;
 mod image;
 mod raster;
-mod retargeter;
+mod retarget;
+mod size;
+mod tiles;
 
 pub mod baseline;
 pub mod compare;
@@ -65,11 +67,12 @@ pub use image::{Image, ImageRef, Size, MAX_SIDE};
 pub use limits::{Limit, Limits, MemoryPlan};
 pub use mesh::{Mesh, MeshOptions};
 pub use render::Renderer;
-pub use retargeter::{
-    retarget, Analysis, Frame, FrameStats, Options, Retargeted, Retargeter, StageTimes, Status,
+pub use retarget::{
+    retarget, Analysis, Decision, Frame, FrameStats, Options, Retargeted, Retargeter, ReuseOptions,
+    StageTimes, Status,
 };
 pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
 pub use solve::{EnergyParams, SolveStats, Solver, Warp};
-pub use stream::{Decision, FrameSink, FrameSource, Pipeline, Repeat, ReuseOptions, RunSummary};
+pub use stream::{FrameSink, FrameSource, Pipeline, Repeat, RunSummary};
 pub use structure::{DataArea, Regions};
 pub use vector::{MarkSize, VectorLayer, VectorOptions};

@@ -17,17 +17,7 @@ use crate::error::Error;
 use crate::image::{Size, MAX_SIDE};
 use std::path::{Path, PathBuf};
 
-/// Which limit an input went past ([`Error::LimitExceeded`]).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum Limit {
-    /// [`Limits::max_pixels`].
-    Pixels,
-    /// [`Limits::max_frames`].
-    Frames,
-    /// [`Limits::memory_budget`].
-    Memory,
-}
+pub use crate::error::Limit;
 
 /// How much an input may make the library allocate and do. `None` turns a bound off.
 ///
@@ -125,7 +115,7 @@ impl Limits {
             ));
         }
         self.check_pixels(name, what, width, height)?;
-        Size::new(width as u32, height as u32)
+        Ok(Size::new(width as u32, height as u32)?)
     }
 
     /// Checks `width × height` against [`Limits::max_pixels`] (sides unchecked: a GIF frame's

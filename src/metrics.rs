@@ -41,7 +41,7 @@ use crate::baseline::{Mapping, Method, MethodOutput, MethodStats};
 use crate::image::{Image, Size};
 use crate::mesh::{cross2, Mesh};
 use crate::raster::{rasterize, FixedPoint};
-use crate::retargeter::StageTimes;
+use crate::retarget::StageTimes;
 use crate::saliency::{SaliencyLevel, Vsm, VsmBuilder};
 use crate::solve::Warp;
 use glam::{DMat2, DVec2};

@@ -6,8 +6,9 @@
 use glam::DVec2;
 use std::sync::Arc;
 use vizretarget::enhance::{EnhanceRegion, Enhancement};
+use vizretarget::io::{FrameMarks, MarkedSource};
 use vizretarget::stream::{NoProgress, VecSink, VecSource};
-use vizretarget::vector::{parse_layer, FrameMarks, MarkedSource, PointMark};
+use vizretarget::vector::{parse_layer, PointMark};
 use vizretarget::{
     retarget, Frame, FrameSource, Image, Mesh, Options, Pipeline, Retargeted, Retargeter, Size,
     VectorLayer, Warp,

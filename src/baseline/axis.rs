@@ -25,7 +25,7 @@ use super::{ms_since, MethodOutput};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::Mesh;
-use crate::retargeter::{Options, StageTimes};
+use crate::retarget::{Options, StageTimes};
 use crate::saliency::{Vsm, VsmBuilder};
 use crate::solve::Warp;
 use crate::structure::Structure;

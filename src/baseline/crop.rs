@@ -5,7 +5,7 @@
 
 use super::{linear, ms_since, Mapping, MethodOutput, MethodStats};
 use crate::image::{Image, Size};
-use crate::retargeter::StageTimes;
+use crate::retarget::StageTimes;
 use crate::saliency::{Vsm, VsmBuilder};
 use std::sync::Arc;
 use std::time::Instant;

@@ -6,7 +6,7 @@ use super::{ms_since, MethodOutput};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::Mesh;
-use crate::retargeter::{Options, StageTimes};
+use crate::retarget::{Options, StageTimes};
 use crate::saliency::VsmBuilder;
 use crate::solve::Solver;
 use std::time::Instant;

@@ -6,7 +6,7 @@ use super::{ms_since, Mapping, MethodOutput, MethodStats};
 use crate::image::{Image, ImageRef, Size};
 use crate::mesh::Mesh;
 use crate::render::Renderer;
-use crate::retargeter::StageTimes;
+use crate::retarget::StageTimes;
 use crate::solve::Warp;
 use std::time::Instant;
 

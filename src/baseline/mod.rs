@@ -23,7 +23,7 @@ mod seam;
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::Mesh;
-use crate::retargeter::{retarget, Options, StageTimes};
+use crate::retarget::{retarget, Options, StageTimes};
 use crate::saliency::Vsm;
 use crate::solve::Warp;
 use std::sync::Arc;

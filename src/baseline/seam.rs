@@ -20,7 +20,7 @@
 
 use super::{ms_since, Mapping, MethodOutput, MethodStats};
 use crate::image::{Image, Size};
-use crate::retargeter::StageTimes;
+use crate::retarget::StageTimes;
 use crate::saliency::VsmBuilder;
 use std::sync::Arc;
 use std::time::Instant;

@@ -7,8 +7,9 @@ use anyhow::Result;
 use std::path::Path;
 use std::sync::Arc;
 use vizretarget::enhance::{EnhanceMask, Enhancement};
+use vizretarget::io::FrameMarks;
 use vizretarget::io::{list_images, read_still_with, Input, InputKind};
-use vizretarget::vector::{read_layer, FrameMarks};
+use vizretarget::vector::read_layer;
 use vizretarget::{MarkSize, Options};
 
 /// Whether any option of §5.3–5.4 is given.

@@ -7,12 +7,12 @@ use anyhow::{bail, Context, Result};
 use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::atomic::Ordering;
+use vizretarget::io::MarkedSource;
 use vizretarget::io::{
     is_std, open_input_with, open_sink, FrameRate, Input, InputFormat, InputKind, SinkFormat,
     SinkOptions, STDIN_NAME,
 };
 use vizretarget::stream::{DetachedSource, Progress, VecSource};
-use vizretarget::vector::MarkedSource;
 use vizretarget::{Options, Pipeline, Size};
 
 pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> Result<Outcome> {
@@ -46,7 +46,7 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     }
     let input_size = args
         .input_size
-        .map(|(w, h)| Size::new(w, h))
+        .map(|(w, h)| Size::new(w, h).map_err(vizretarget::Error::from))
         .transpose()
         .map_err(library_error)?;
     let input_format = match args.input_format {

@@ -13,7 +13,7 @@ use super::still::read_still_with;
 use crate::error::Error;
 use crate::image::Size;
 use crate::limits::Limits;
-use crate::retargeter::Frame;
+use crate::retarget::Frame;
 use crate::stream::FrameSource;
 use std::path::{Path, PathBuf};
 

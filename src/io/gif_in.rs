@@ -14,7 +14,7 @@
 use crate::error::Error;
 use crate::image::{Image, Size, MAX_SIDE};
 use crate::limits::{human_bytes, Limits};
-use crate::retargeter::Frame;
+use crate::retarget::Frame;
 use crate::stream::{FrameSource, Repeat};
 use gif::{ColorOutput, DecodeOptions, DisposalMethod, MemoryLimit};
 use std::io::{BufReader, Read};

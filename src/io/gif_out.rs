@@ -23,7 +23,7 @@ use super::quantize::{build_palette, pack, Quantizer, MAX_COLORS};
 use super::y4m::FrameRate;
 use crate::error::Error;
 use crate::image::{Image, Size};
-use crate::retargeter::Retargeted;
+use crate::retarget::Retargeted;
 use crate::stream::{FrameSink, Repeat};
 use gif::DisposalMethod;
 use std::borrow::Cow;

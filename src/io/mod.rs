@@ -19,6 +19,7 @@ mod atomic;
 mod dir;
 mod gif_in;
 mod gif_out;
+mod marks;
 mod names;
 mod natural;
 mod open;
@@ -37,6 +38,7 @@ pub use atomic::{remove_temporary_files, AtomicFile};
 pub use dir::{list_images, DirSource};
 pub use gif_in::GifSource;
 pub use gif_out::{GifOptions, GifSink};
+pub use marks::{FrameMarks, MarkedSource};
 pub use names::FrameNames;
 pub use natural::natural_cmp;
 #[cfg(feature = "watch")]

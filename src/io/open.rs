@@ -16,7 +16,7 @@ use super::y4m::{FrameRate, Y4mSink, Y4mSource};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::limits::Limits;
-use crate::retargeter::{Frame, Retargeted};
+use crate::retarget::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource, Repeat};
 use std::io::{Cursor, Read};
 use std::path::Path;

@@ -9,7 +9,7 @@
 use super::names::FrameNames;
 use super::still::{encode_still, write_atomic, OutputFormat};
 use crate::error::Error;
-use crate::retargeter::Retargeted;
+use crate::retarget::Retargeted;
 use crate::stream::FrameSink;
 use std::path::{Path, PathBuf};
 

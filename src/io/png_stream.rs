@@ -9,7 +9,7 @@ use super::sniff::PNG_SIGNATURE;
 use super::still::{decode_still_with, encode_still, OutputFormat};
 use crate::error::Error;
 use crate::limits::Limits;
-use crate::retargeter::{Frame, Retargeted};
+use crate::retarget::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource};
 use std::io::{BufReader, Read, Write};
 use std::path::PathBuf;

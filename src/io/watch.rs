@@ -36,7 +36,7 @@ use super::names::FrameNames;
 use super::natural::natural_cmp;
 use super::still::read_still_with;
 use crate::error::Error;
-use crate::retargeter::Frame;
+use crate::retarget::Frame;
 use crate::stream::FrameSource;
 use notify::event::{AccessKind, AccessMode, ModifyKind, RenameMode};
 use notify::{Event, EventKind, RecursiveMode, Watcher};

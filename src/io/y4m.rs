@@ -15,7 +15,7 @@ use super::pipe::{read_full, write_error};
 use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::limits::Limits;
-use crate::retargeter::{Frame, Retargeted};
+use crate::retarget::{Frame, Retargeted};
 use crate::stream::{FrameSink, FrameSource};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::PathBuf;

@@ -12,7 +12,8 @@ mod sampling;
 mod skeleton;
 mod triangulate;
 
-pub use incremental::{IncrementalMesh, TileMask};
+pub use crate::tiles::TileMask;
+pub use incremental::IncrementalMesh;
 pub(crate) use marks::find_marks;
 pub use marks::Mark;
 pub use sampling::{KeyPoint, KeyPointKind};

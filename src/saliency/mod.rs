@@ -120,7 +120,7 @@ impl Vsm {
     }
 
     /// Copies the cells of `other` (same size and scale) that lie in the tiles of `mask`.
-    pub(crate) fn copy_tiles_from(&mut self, other: &Vsm, mask: &crate::mesh::TileMask) {
+    pub(crate) fn copy_tiles_from(&mut self, other: &Vsm, mask: &crate::tiles::TileMask) {
         if other.size != self.size || other.scale != self.scale {
             *self = other.clone();
             return;

@@ -11,11 +11,13 @@ mod boundary;
 mod cholesky;
 mod energy;
 mod fit;
+mod locate;
 mod repair;
 mod snapping;
 mod weights;
 
 pub use energy::EnergyParams;
+pub use locate::Locator;
 
 use crate::error::Error;
 use crate::image::Size;
@@ -84,6 +86,11 @@ impl Warp {
             positions,
             scales,
         }
+    }
+
+    /// Point location through this warp of `mesh` (see [`Locator`]).
+    pub fn locator<'a>(&'a self, mesh: &'a Mesh) -> Locator<'a> {
+        Locator::new(mesh, self)
     }
 
     /// The target canvas.

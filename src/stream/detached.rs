@@ -13,7 +13,7 @@
 
 use super::{FrameSource, Repeat};
 use crate::error::Error;
-use crate::retargeter::Frame;
+use crate::retarget::Frame;
 use crossbeam_channel::{bounded, Receiver, RecvTimeoutError, Sender};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

@@ -1,22 +1,18 @@
 //! Streams of frames: where frames come from, where they go, and the pipeline between.
 //!
 //! The method's stages (VSM → mesh → solve → render) run as a sequential core in
-//! [`crate::Retargeter`]; [`Pipeline`] runs the same stage functions on one thread each,
-//! joined by bounded channels, between a [`FrameSource`] thread and a [`FrameSink`] thread.
-//! Both give the same frames (a test checks it).
+//! [`crate::Retargeter`]; [`Pipeline`] runs the same stage calls on one thread each, joined
+//! by bounded channels, between a [`FrameSource`] thread and a [`FrameSink`] thread. Both give
+//! the same frames (a test checks it).
 
 mod detached;
 mod pipeline;
-pub(crate) mod reuse;
-pub(crate) mod stages;
-mod tiles;
 
 pub use detached::DetachedSource;
 pub use pipeline::{Pipeline, RunSummary};
-pub use reuse::ReuseOptions;
 
 use crate::error::Error;
-use crate::retargeter::{Frame, FrameStats, Retargeted};
+use crate::retarget::{Frame, FrameStats, Retargeted};
 
 /// Where frames come from (a GIF, a folder, stdin, a watched directory...).
 pub trait FrameSource: Send {
@@ -40,18 +36,6 @@ pub enum Repeat {
     Infinite,
     /// Played this many extra times after the first (GIF's NETSCAPE loop count).
     Times(u16),
-}
-
-/// What the reuse policy decided for a frame.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Decision {
-    /// Mesh and solution built from scratch.
-    #[default]
-    Rebuild,
-    /// Key points re-sampled in the changed tiles only; the rest of the solution kept.
-    Update,
-    /// Previous mesh and solution kept; only rendering.
-    Reuse,
 }
 
 /// Where retargeted frames go (a GIF, a folder, stdout...).

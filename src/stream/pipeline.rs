@@ -1,8 +1,8 @@
 //! The threaded stage pipeline: ingest → VSM → mesh → solve → render → sink, one thread each,
 //! joined by bounded channels.
 //!
-//! The stages are the ones the sequential [`Retargeter`] calls (`stages.rs`), so both give the
-//! same frames. Each stage loops over its input channel and ends when that channel closes;
+//! The stages are the calls the sequential [`crate::Retargeter`] chains
+//! ([`crate::retarget::stages`]), so both give the same frames. Each stage loops over its input channel and ends when that channel closes;
 //! dropping the sender is the shutdown signal (no sentinel messages, as in gifski). Channels
 //! hold one frame each: memory stays flat on an endless stdin stream, and a slow sink slows
 //! the source rather than piling frames up. Frame order is kept because every stage is one
@@ -11,14 +11,12 @@
 //! channels, as gifski between heavy stages): about half the frames in flight, each stage
 //! waiting a little more for its neighbours.
 
-use super::stages::{MeshStage, Meshed, RenderStage, Saliency, SaliencyStage, SolveStage, Solved};
-use super::{Decision, FrameSink, FrameSource, Progress};
+use super::{FrameSink, FrameSource, Progress};
 use crate::error::Error;
 use crate::image::Size;
 use crate::limits::MemoryPlan;
-use crate::mesh::MeshOptions;
-use crate::retargeter::{finish, Frame, FrameParts, Options, StageTimes};
-use crate::vector::{overlay, prepare_frame, Binding, RaisedVsm};
+use crate::retarget::stages::{Stages, WithMesh, WithVsm, WithWarp};
+use crate::retarget::{Decision, Frame, Options, Retargeted, StageTimes};
 use crossbeam_channel::{bounded, Receiver, Sender};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -54,34 +52,6 @@ impl RunSummary {
 /// Runs a source through the stages into a sink.
 pub struct Pipeline;
 
-struct WithVsm {
-    frame: Frame,
-    sal: Saliency,
-    times: StageTimes,
-    /// The raster with the frame's vector marks drawn in, when it has any: what the VSM and
-    /// the structure are computed on.
-    whole: Option<crate::image::Image>,
-}
-
-struct WithMesh {
-    frame: Frame,
-    sal: Saliency,
-    meshed: Meshed,
-    times: StageTimes,
-}
-
-struct WithWarp {
-    frame: Frame,
-    sal: Saliency,
-    meshed: Meshed,
-    solved: Solved,
-    times: StageTimes,
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1000.0
-}
-
 /// A stage loop: `f` on every message until the input closes or the output is gone.
 fn stage<I, O>(
     rx: Receiver<I>,
@@ -99,6 +69,21 @@ fn stage<I, O>(
         }
     }
     Ok(())
+}
+
+/// Spawns a stage loop ([`stage`]) on a thread of its own, named for the stage.
+fn spawn_stage<'scope, 'env, I: Send + 'scope, O: Send + 'scope>(
+    s: &'scope std::thread::Scope<'scope, 'env>,
+    name: &str,
+    rx: Receiver<I>,
+    tx: Sender<O>,
+    stop: &'scope AtomicBool,
+    f: impl FnMut(I) -> Result<O, Error> + Send + 'scope,
+) -> std::thread::ScopedJoinHandle<'scope, Result<(), Error>> {
+    std::thread::Builder::new()
+        .name(name.into())
+        .spawn_scoped(s, move || stage(rx, tx, stop, f))
+        .unwrap_or_else(|e| panic!("spawn the {name} stage: {e}"))
 }
 
 impl Pipeline {
@@ -140,7 +125,7 @@ impl Pipeline {
         let (tx1, rx1) = bounded::<WithVsm>(capacity);
         let (tx2, rx2) = bounded::<WithMesh>(capacity);
         let (tx3, rx3) = bounded::<WithWarp>(capacity);
-        let (tx4, rx4) = bounded(capacity);
+        let (tx4, rx4) = bounded::<Retargeted>(capacity);
 
         let cancelled = AtomicBool::new(false);
         let results: Vec<Result<(), Error>> = std::thread::scope(|s| {
@@ -181,133 +166,34 @@ impl Pipeline {
                     })
                     .expect("spawn ingest"),
             );
-            let mut saliency = SaliencyStage::new(options.reuse.clone());
-            let mut raised = RaisedVsm::default();
-            handles.push(
-                std::thread::Builder::new()
-                    .name("vsm".into())
-                    .spawn_scoped(s, move || {
-                        stage(rx0, tx1, stop, |mut frame: Frame| {
-                            let t = Instant::now();
-                            let whole =
-                                prepare_frame(&mut frame, options.marks.as_ref(), &options.vector)?;
-                            let mut sal = saliency.run(whole.as_ref().unwrap_or(&frame.image));
-                            sal.vsm = raised.apply(&sal.vsm, frame.marks.as_ref());
-                            let times = StageTimes {
-                                vsm_ms: ms(t),
-                                ..StageTimes::default()
-                            };
-                            Ok(WithVsm {
-                                frame,
-                                sal,
-                                times,
-                                whole,
-                            })
-                        })
-                    })
-                    .expect("spawn vsm"),
-            );
-            let mut mesher = MeshStage::new(
-                MeshOptions {
-                    alpha: options.alpha,
-                    regions: options.effective_regions(),
-                },
-                options.reuse.clone(),
-                options.structure,
-            );
-            handles.push(
-                std::thread::Builder::new()
-                    .name("mesh".into())
-                    .spawn_scoped(s, move || {
-                        stage(rx1, tx2, stop, |m: WithVsm| {
-                            let t = Instant::now();
-                            let bind = Binding::of(m.frame.marks.as_deref(), m.frame.image.size());
-                            let meshed = mesher.run_with_marks(
-                                &m.sal,
-                                m.whole.as_ref().unwrap_or(&m.frame.image),
-                                &bind.points,
-                                &bind.rings,
-                            );
-                            let mut times = m.times;
-                            times.mesh_ms = ms(t);
-                            Ok(WithMesh {
-                                frame: m.frame,
-                                sal: m.sal,
-                                meshed,
-                                times,
-                            })
-                        })
-                    })
-                    .expect("spawn mesh"),
-            );
-            let mut solver =
-                SolveStage::new(options.energy.clone(), target).with_enhancement(&options.enhance);
-            handles.push(
-                std::thread::Builder::new()
-                    .name("solve".into())
-                    .spawn_scoped(s, move || {
-                        stage(rx2, tx3, stop, |m: WithMesh| {
-                            let t = Instant::now();
-                            let solved = solver.run(&m.sal.vsm, &m.meshed)?;
-                            let mut times = m.times;
-                            times.solve_ms = ms(t);
-                            Ok(WithWarp {
-                                frame: m.frame,
-                                sal: m.sal,
-                                meshed: m.meshed,
-                                solved,
-                                times,
-                            })
-                        })
-                    })
-                    .expect("spawn solve"),
-            );
-            let mut renderer = RenderStage::default();
-            let keep = options.keep_analysis;
-            handles.push(
-                std::thread::Builder::new()
-                    .name("render".into())
-                    .spawn_scoped(s, move || {
-                        stage(rx3, tx4, stop, |m: WithWarp| {
-                            let t = Instant::now();
-                            let mut image = renderer.run(
-                                &m.frame.image,
-                                &m.sal.vsm,
-                                &m.meshed,
-                                &m.solved.warp,
-                                m.solved.decision,
-                                &m.sal.dirty,
-                            );
-                            let marks = m.frame.marks.as_ref().map(|l| {
-                                overlay(
-                                    &mut image,
-                                    l,
-                                    &m.meshed.mesh,
-                                    &m.solved.warp,
-                                    &options.vector,
-                                )
-                            });
-                            let mut times = m.times;
-                            times.render_ms = ms(t);
-                            let region_tiles = m.meshed.region.count();
-                            Ok(finish(
-                                FrameParts {
-                                    frame: m.frame,
-                                    image,
-                                    vsm: m.sal.vsm,
-                                    mesh: m.meshed.mesh,
-                                    solved: m.solved,
-                                    region_tiles,
-                                    times,
-                                    marks,
-                                    floated: renderer.floated(),
-                                },
-                                keep,
-                            ))
-                        })
-                    })
-                    .expect("spawn render"),
-            );
+            let Stages {
+                saliency: mut vsm_stage,
+                mesh: mut mesh_stage,
+                solve: mut solve_stage,
+                render: mut render_stage,
+            } = Stages::new(target, options);
+            handles.push(spawn_stage(s, "vsm", rx0, tx1, stop, move |m: Frame| {
+                vsm_stage.run(m)
+            }));
+            handles.push(spawn_stage(s, "mesh", rx1, tx2, stop, move |m: WithVsm| {
+                mesh_stage.run(m)
+            }));
+            handles.push(spawn_stage(
+                s,
+                "solve",
+                rx2,
+                tx3,
+                stop,
+                move |m: WithMesh| solve_stage.run(m),
+            ));
+            handles.push(spawn_stage(
+                s,
+                "render",
+                rx3,
+                tx4,
+                stop,
+                move |m: WithWarp| render_stage.run(m),
+            ));
 
             // The sink runs here, on the caller's thread (the sink need not be Send).
             let mut sink_result: Result<(), Error> = Ok(());

@@ -98,16 +98,14 @@ mod draw;
 mod footprint;
 mod json;
 mod place;
-mod source;
 
+pub(crate) use json::{is_json_lines, parse_line};
 pub use json::{parse_layer, parse_layer_lines, read_layer};
 pub use place::{place, MeshMap};
-pub use source::{FrameMarks, MarkedSource};
 
 pub use footprint::paint_out;
 pub(crate) use footprint::RaisedVsm;
 
-use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::mesh::{Mark, Mesh};
 use crate::solve::Warp;
@@ -356,35 +354,6 @@ impl Binding {
             .collect();
         Binding { points, rings }
     }
-}
-
-/// The layer that applies to a frame: its own, else the options' one for every frame;
-/// checked, and the raster painted out under it if asked. Returns the picture to analyse
-/// (saliency, structure) when there are marks: the raster with the marks drawn in at their
-/// source places, i.e. the whole visualization, as the paper computes its saliency map
-/// (§5.3). Its normalization then matches the same picture given as pixels: a background
-/// alone would have its own faint content stretched to full saliency. The error names the
-/// frame.
-pub(crate) fn prepare_frame(
-    frame: &mut crate::Frame,
-    marks: Option<&Arc<VectorLayer>>,
-    options: &VectorOptions,
-) -> Result<Option<Image>, Error> {
-    if frame.marks.is_none() {
-        frame.marks = marks.cloned();
-    }
-    let Some(layer) = frame.marks.as_ref().filter(|l| !l.is_empty()) else {
-        return Ok(None);
-    };
-    layer.validate().map_err(|m| {
-        Error::InvalidOptions(format!("the marks of frame {}: {m}", frame.frame_index))
-    })?;
-    if options.paint_out {
-        paint_out(&mut frame.image, layer);
-    }
-    let mut whole = frame.image.clone();
-    layer.draw(&mut whole);
-    Ok(Some(whole))
 }
 
 /// Places `layer` through the warp and draws it onto the rendered `image`; returns the layer

@@ -4,49 +4,28 @@
 use super::{MarkSize, PointMark, Polyline, VectorLayer};
 use crate::mesh::Mesh;
 use crate::raster::snap;
-use crate::solve::Warp;
+use crate::solve::{Locator, Warp};
 use glam::DVec2;
 
-/// Side of the buckets that index triangles for point location, px.
-const CELL_PX: f64 = 32.0;
+/// How far outside a triangle (in barycentric units) a point may lie and still be placed by
+/// it rather than by the nearest triangle: only rounding.
+const ON_TRIANGLE: f64 = 1e-12;
 /// Points on a mark's rim used to measure the local scale.
 const RIM_SAMPLES: usize = 8;
 /// The local scale a mark's radius may take.
 const SCALE_RANGE: (f64, f64) = (0.1, 10.0);
 
-/// Maps source points to the output through a mesh and its warp.
+/// Maps source points to the output through a mesh and its warp: a vertex exactly where the
+/// warp puts it, any other point through the [`Locator`].
 pub struct MeshMap<'a> {
-    mesh: &'a Mesh,
-    warp: &'a Warp,
-    cols: usize,
-    rows: usize,
-    buckets: Vec<Vec<u32>>,
+    locator: Locator<'a>,
     /// Vertex index by exact position, for points that are vertices.
     vertex_at: std::collections::HashMap<(u64, u64), u32>,
 }
 
 impl<'a> MeshMap<'a> {
-    /// Indexes `mesh`'s triangles (a bucket grid); `warp` must be a warp of `mesh`.
+    /// Indexes `mesh`'s triangles and vertices; `warp` must be a warp of `mesh`.
     pub fn new(mesh: &'a Mesh, warp: &'a Warp) -> MeshMap<'a> {
-        let size = mesh.size();
-        let cols = (size.width as f64 / CELL_PX).ceil().max(1.0) as usize;
-        let rows = (size.height as f64 / CELL_PX).ceil().max(1.0) as usize;
-        let mut buckets = vec![Vec::new(); cols * rows];
-        let ok = warp.positions().len() == mesh.vertices().len();
-        for t in 0..if ok { mesh.triangles().len() } else { 0 } {
-            let p = mesh.triangle_points(t);
-            let lo = p[0].min(p[1]).min(p[2]);
-            let hi = p[0].max(p[1]).max(p[2]);
-            let c0 = ((lo.x / CELL_PX).max(0.0) as usize).min(cols - 1);
-            let r0 = ((lo.y / CELL_PX).max(0.0) as usize).min(rows - 1);
-            let c1 = ((hi.x / CELL_PX).max(0.0) as usize).min(cols - 1);
-            let r1 = ((hi.y / CELL_PX).max(0.0) as usize).min(rows - 1);
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    buckets[r * cols + c].push(t as u32);
-                }
-            }
-        }
         let vertex_at = mesh
             .vertices()
             .iter()
@@ -54,11 +33,7 @@ impl<'a> MeshMap<'a> {
             .map(|(i, p)| ((p.x.to_bits(), p.y.to_bits()), i as u32))
             .collect();
         MeshMap {
-            mesh,
-            warp,
-            cols,
-            rows,
-            buckets,
+            locator: warp.locator(mesh),
             vertex_at,
         }
     }
@@ -75,36 +50,9 @@ impl<'a> MeshMap<'a> {
         // fixed-point grid) goes where the vertex goes.
         let s = DVec2::new(snap(p.x), snap(p.y));
         if let Some(&v) = self.vertex_at.get(&(s.x.to_bits(), s.y.to_bits())) {
-            return self.warp.positions().get(v as usize).copied();
+            return self.locator.warp().positions().get(v as usize).copied();
         }
-        let (t, b) = self.locate(p)?;
-        let tri = self.mesh.triangles()[t];
-        let q = tri.map(|v| self.warp.positions()[v as usize]);
-        Some(q[0] * b[0] + q[1] * b[1] + q[2] * b[2])
-    }
-
-    /// The triangle holding `p` (or, outside the mesh, the one whose barycentric coordinates
-    /// for `p` are least negative among those near it) and `p`'s barycentric coordinates.
-    fn locate(&self, p: DVec2) -> Option<(usize, [f64; 3])> {
-        let size = self.mesh.size();
-        let q = DVec2::new(
-            p.x.clamp(0.0, size.width as f64),
-            p.y.clamp(0.0, size.height as f64),
-        );
-        let c = ((q.x / CELL_PX) as usize).min(self.cols - 1);
-        let r = ((q.y / CELL_PX) as usize).min(self.rows - 1);
-        let mut best: Option<(usize, [f64; 3], f64)> = None;
-        for &t in &self.buckets[r * self.cols + c] {
-            let b = barycentric(self.mesh.triangle_points(t as usize), p);
-            let worst = b[0].min(b[1]).min(b[2]);
-            if worst >= -1e-12 {
-                return Some((t as usize, b));
-            }
-            if best.as_ref().is_none_or(|x| worst > x.2) {
-                best = Some((t as usize, b, worst));
-            }
-        }
-        best.map(|(t, b, _)| (t, b))
+        self.locator.map_nearest(p, ON_TRIANGLE)
     }
 
     /// The local scale of the warp over a disc of radius `radius` around `centre`:
@@ -143,16 +91,6 @@ impl<'a> MeshMap<'a> {
             1.0
         }
     }
-}
-
-fn barycentric(t: [DVec2; 3], p: DVec2) -> [f64; 3] {
-    let d = (t[1] - t[0]).perp_dot(t[2] - t[0]);
-    if d == 0.0 {
-        return [f64::NEG_INFINITY; 3];
-    }
-    let b1 = (p - t[0]).perp_dot(t[2] - t[0]) / d;
-    let b2 = (t[1] - t[0]).perp_dot(p - t[0]) / d;
-    [1.0 - b1 - b2, b1, b2]
 }
 
 /// `layer` carried through `mesh` deformed by `warp`, in output coordinates: every point's

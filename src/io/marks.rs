@@ -1,12 +1,11 @@
 //! Marks for each frame of a stream: one layer for all, JSON Lines (one line per frame), or a
 //! sidecar file per frame file; and a [`FrameSource`] that hands them on with the frames.
 
-use super::json::{is_json_lines, parse_line, read_layer};
-use super::VectorLayer;
+use super::FrameNames;
 use crate::error::Error;
-use crate::io::FrameNames;
-use crate::retargeter::Frame;
+use crate::retarget::Frame;
 use crate::stream::{FrameSource, Repeat};
+use crate::vector::{is_json_lines, parse_line, read_layer, VectorLayer};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

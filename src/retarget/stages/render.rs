@@ -1,0 +1,362 @@
+//! Stage 4: the render (§5.2's warp drawn crisp), only of what changed when the previous
+//! frame's output can be kept, with the frame's floating marks drawn over it, its vector marks
+//! placed and drawn, and its output record.
+
+use super::{ms, Meshed, WithWarp};
+use crate::error::Error;
+use crate::image::Image;
+use crate::mesh::{Mark, Mesh};
+use crate::render::{Floating, MaskKind, Renderer};
+use crate::retarget::frame::{Analysis, FrameStats, Retargeted, StageTimes};
+use crate::retarget::options::Options;
+use crate::retarget::reuse::Decision;
+use crate::saliency::Vsm;
+use crate::solve::Warp;
+use crate::structure::Structure;
+use crate::tiles::TileMask;
+use crate::vector::{overlay, VectorLayer, VectorOptions};
+use glam::DVec2;
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Stage 4: the render, only of what changed when the previous frame's output can be kept,
+/// with the frame's floating marks drawn over it.
+pub(crate) struct RenderStage {
+    renderer: Renderer,
+    /// How vector marks are placed and drawn over the render.
+    vector: VectorOptions,
+    /// Keep each frame's VSM, mesh and warp in its output.
+    keep_analysis: bool,
+    prev: Option<Previous>,
+    /// The source with floating marks painted out, and the mask buffer that paints them.
+    painted: Option<Image>,
+    scratch: Vec<bool>,
+    /// How many marks and text blocks the last frame drew floating.
+    floated: usize,
+}
+
+struct Previous {
+    mesh: Arc<Mesh>,
+    warp: Arc<Warp>,
+    image: Image,
+    opaque: bool,
+    floating: Floating,
+}
+
+impl RenderStage {
+    pub fn new(options: &Options) -> RenderStage {
+        RenderStage {
+            renderer: Renderer::default(),
+            vector: options.vector.clone(),
+            keep_analysis: options.keep_analysis,
+            prev: None,
+            painted: None,
+            scratch: Vec::new(),
+            floated: 0,
+        }
+    }
+
+    /// The retargeted frame: the warped raster, the marks floating over it, the vector marks
+    /// placed and drawn (§5.3), and the frame's statistics.
+    pub fn run(&mut self, m: WithWarp) -> Result<Retargeted, Error> {
+        let t = Instant::now();
+        let mut image = self.draw(
+            &m.frame.image,
+            &m.sal.vsm,
+            &m.meshed,
+            &m.solved.warp,
+            m.solved.decision,
+            &m.sal.dirty,
+        );
+        let marks = m
+            .frame
+            .marks
+            .as_ref()
+            .map(|l| overlay(&mut image, l, &m.meshed.mesh, &m.solved.warp, &self.vector));
+        let mut times = m.times;
+        times.render_ms = ms(t);
+        Ok(finish(
+            m,
+            image,
+            marks,
+            times,
+            self.floated,
+            self.keep_analysis,
+        ))
+    }
+
+    /// The warped raster with the frame's floating marks: only what changed is redrawn when
+    /// the previous frame's output can be kept.
+    fn draw(
+        &mut self,
+        src: &Image,
+        vsm: &Vsm,
+        m: &Meshed,
+        warp: &Arc<Warp>,
+        decision: Decision,
+        dirty: &TileMask,
+    ) -> Image {
+        let mesh = &m.mesh;
+        let opaque = src.is_opaque();
+        let target = warp.target();
+        let floating = floating_marks(src, vsm, m, warp);
+        // The warp reads the source with the floating marks painted out.
+        let warped: &Image = if floating.is_empty() {
+            src
+        } else {
+            let painted = match &mut self.painted {
+                Some(p) if p.size() == src.size() => {
+                    p.pixels_mut().copy_from_slice(src.pixels());
+                    p
+                }
+                p => p.insert(src.clone()),
+            };
+            floating.paint_out(painted, mesh.structure(), &mut self.scratch);
+            painted
+        };
+        let usable = self.prev.as_ref().filter(|p| {
+            decision != Decision::Rebuild
+                && p.image.size() == target
+                && p.opaque == opaque
+                && p.mesh.size() == mesh.size()
+        });
+        // A canvas taken whole is one linear map: resampled as a plain linear resize is
+        // ([`crate::render::resize_linear`]), with none of the crisp-line work that only a
+        // bending warp needs (judged blind, its notches and specks were the defects left once
+        // nothing bent).
+        let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
+        let unchanged = usable.is_some_and(|p| {
+            Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
+        });
+        let (mut out, pasted) = match usable {
+            Some(p) if unchanged => {
+                // Same pixels, mesh and warp: the same floating marks, already drawn (a
+                // scaled mark blends its rim over what lies under it: twice is not once).
+                (p.image.clone(), true)
+            }
+            _ if whole_canvas => (crate::render::resize_linear(warped.as_ref(), target), false),
+            None => {
+                let mut out = Image::new(target);
+                self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
+                (out, false)
+            }
+            Some(p) => {
+                let kept = unchanged_triangles(&p.mesh, &p.warp, mesh, warp);
+                // Source pixels under floating marks (then and now) were painted out
+                // differently; output pixels they were and are drawn on must be redrawn.
+                let mut dirty = dirty.clone();
+                let (mut src_rects, mut out_rects) = (Vec::new(), Vec::new());
+                for f in [&p.floating, &floating] {
+                    src_rects.extend(f.source_rects());
+                    out_rects.extend(f.output_rects());
+                }
+                let t = dirty.tile_px() as f64;
+                for [x0, y0, x1, y1] in src_rects {
+                    let (c0, r0) = ((x0 / t) as u32, (y0 / t) as u32);
+                    let (c1, r1) = ((x1 / t).ceil() as u32, (y1 / t).ceil() as u32);
+                    for r in r0..r1 {
+                        for c in c0..c1 {
+                            dirty.set(c, r);
+                        }
+                    }
+                }
+                let q = warp.positions();
+                let tris = mesh.triangles();
+                let drawn_over = |t: usize| {
+                    let v = tris[t].map(|i| q[i as usize]);
+                    let lo = v[0].min(v[1]).min(v[2]);
+                    let hi = v[0].max(v[1]).max(v[2]);
+                    out_rects.iter().any(|r| {
+                        lo.x < r[2] + 1.0
+                            && hi.x > r[0] - 1.0
+                            && lo.y < r[3] + 1.0
+                            && hi.y > r[1] - 1.0
+                    })
+                };
+                let mut out = p.image.clone();
+                self.renderer
+                    .render_partial(warped.as_ref(), mesh, warp, &mut out, &|t, r| {
+                        kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3]) && !drawn_over(t)
+                    });
+                (out, false)
+            }
+        };
+        if !pasted {
+            floating.paste(src, &mut out);
+        }
+        self.floated = floating.len();
+        self.prev = Some(Previous {
+            mesh: mesh.clone(),
+            warp: warp.clone(),
+            image: out.clone(),
+            opaque,
+            floating,
+        });
+        out
+    }
+}
+
+/// The marks drawn over the warp at their own shape: the marks of a stream that the kept
+/// mesh does not ring (at their own size, where the warp carries them), and the marks of each
+/// data area (at the area's one scale, the geometric mean of its map's scales, so that a
+/// round mark stays round and sizes that encode data keep their proportions; centred where
+/// the area's map takes their centre).
+fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
+    let mesh = &m.mesh;
+    // Marks inside data areas (at the area's one scale, where its map takes their centre),
+    // then the text blocks inside areas ([`crate::render::area_text_placements`]).
+    let mut in_areas: Vec<(Mark, InArea)> = Vec::new();
+    let mut maps = Vec::new();
+    if let Some(s) = mesh.structure().filter(|s| !s.areas.is_empty()) {
+        maps = warp.area_maps(mesh);
+        in_areas = crate::render::area_marks(src, vsm, s)
+            .into_iter()
+            .map(|(mk, k, c)| (mk, InArea::Mark(k, c)))
+            .collect();
+        let placements = crate::render::area_text_placements(src, s, &maps, warp.target());
+        for (t, p) in s.text.iter().zip(placements) {
+            let Some(p) = p else { continue };
+            let (bw, bh) = ((t.x1 - t.x0) as f64, (t.y1 - t.y0) as f64);
+            let mark = Mark {
+                center: DVec2::new((t.x0 + t.x1) as f64 / 2.0, (t.y0 + t.y1) as f64 / 2.0),
+                ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
+                bbox: [t.x0, t.y0, t.x1, t.y1],
+                pixels: (bw * bh) as u32,
+            };
+            in_areas.push((mark, InArea::Text(p)));
+        }
+    }
+    if m.floating.is_empty() && in_areas.is_empty() {
+        return Floating::default();
+    }
+    // Stream marks inside an area float with the area's marks. On a canvas taken whole
+    // there are none: it is resampled afresh from each frame, and its floats are found
+    // afresh too, so a kept mesh changes nothing drawn (a stream mark pasted at its own size
+    // there is one a fresh frame would draw squeezed).
+    let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
+    let loose: Vec<Mark> = if whole_canvas {
+        Vec::new()
+    } else {
+        m.floating
+            .iter()
+            .filter(|f| {
+                !in_areas
+                    .iter()
+                    .any(|(a, _)| a.center.distance(f.center) < a.ring_radius)
+            })
+            .copied()
+            .collect()
+    };
+    let n_loose = loose.len();
+    let mut marks = loose;
+    marks.extend(in_areas.iter().map(|(mk, _)| *mk));
+    let locator = (n_loose > 0).then(|| warp.locator(mesh));
+    Floating::new(src, vsm, &marks, warp.target(), |i, mk| {
+        if i < n_loose {
+            return locator
+                .as_ref()?
+                .map_inside(mk.center)
+                .map(|p| (p, 1.0, crate::render::RIM_PX, MaskKind::Salient));
+        }
+        let (k, colour) = match in_areas[i - n_loose].1 {
+            InArea::Mark(k, c) => (k, c),
+            // A text block's box and a pixel around it: its glyphs with their edges.
+            InArea::Text(p) => return Some((p.centre, p.scale, 1, MaskKind::Whole)),
+        };
+        let [ax, bx, ay, by] = (*maps.get(k)?)?;
+        let (scale, rim) = ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX);
+        Some((
+            DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by),
+            scale,
+            rim,
+            MaskKind::Colour(colour),
+        ))
+    })
+}
+
+/// What floats in a data area: a mark (of area `k`, of one colour), or a text block, placed.
+#[derive(Copy, Clone)]
+enum InArea {
+    Mark(usize, [u8; 3]),
+    Text(crate::render::TextPlacement),
+}
+
+/// For each triangle of `mesh`: whether the previous mesh had it (the same three vertex ids)
+/// with the same deformed positions, so that its pixels in the previous output still hold.
+fn unchanged_triangles(pm: &Mesh, pw: &Warp, mesh: &Mesh, warp: &Warp) -> Vec<bool> {
+    let same_mesh = std::ptr::eq(pm, mesh);
+    let prev_pos: HashMap<u64, DVec2> = pm
+        .ids()
+        .iter()
+        .copied()
+        .zip(pw.positions().iter().copied())
+        .collect();
+    let key = |m: &Mesh, t: &[u32; 3]| {
+        let mut k = t.map(|v| m.ids()[v as usize]);
+        k.sort_unstable();
+        k
+    };
+    let prev_tris: HashSet<[u64; 3]> = if same_mesh {
+        HashSet::new()
+    } else {
+        pm.triangles().iter().map(|t| key(pm, t)).collect()
+    };
+    mesh.triangles()
+        .iter()
+        .map(|t| {
+            (same_mesh || prev_tris.contains(&key(mesh, t)))
+                && t.iter().all(|&v| {
+                    prev_pos.get(&mesh.ids()[v as usize]) == Some(&warp.positions()[v as usize])
+                })
+        })
+        .collect()
+}
+
+/// The output record of a frame.
+fn finish(
+    m: WithWarp,
+    image: Image,
+    marks: Option<Arc<VectorLayer>>,
+    times: StageTimes,
+    floated: usize,
+    keep_analysis: bool,
+) -> Retargeted {
+    let WithWarp {
+        frame,
+        sal,
+        meshed,
+        solved,
+        ..
+    } = m;
+    let mesh = meshed.mesh;
+    let stats = FrameStats {
+        vertices: mesh.vertices().len(),
+        triangles: mesh.triangles().len(),
+        dof: mesh.dof(),
+        solve: solved.stats,
+        times,
+        decision: solved.decision,
+        updated_tiles: if solved.decision == Decision::Update {
+            meshed.region.count()
+        } else {
+            0
+        },
+        frame_index: frame.frame_index,
+        data_areas: mesh.structure().map_or(0, |s| s.areas.len()),
+        floated,
+    };
+    let analysis = keep_analysis.then_some(Analysis {
+        vsm: sal.vsm,
+        mesh,
+        warp: solved.warp,
+    });
+    Retargeted {
+        image,
+        frame_index: frame.frame_index,
+        duration_ms: frame.duration_ms,
+        stats,
+        analysis,
+        marks,
+    }
+}

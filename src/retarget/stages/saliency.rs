@@ -1,0 +1,148 @@
+//! Stage 1: the visual saliency map (§4), recomputed only where pixels changed.
+
+use super::{ms, WithVsm};
+use crate::error::Error;
+use crate::image::Image;
+use crate::retarget::frame::{Frame, StageTimes};
+use crate::retarget::options::Options;
+use crate::retarget::reuse::ReuseOptions;
+use crate::saliency::{Rect, Vsm, VsmBuilder};
+use crate::tiles::{changed_tiles, TileMask};
+use crate::vector::{paint_out, RaisedVsm, VectorLayer, VectorOptions};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Above this share of changed tiles the VSM is recomputed whole (with fresh normalization).
+const FULL_VSM_FRACTION: f64 = 0.5;
+
+/// Stage 1: the VSM, recomputed only where pixels changed.
+pub(crate) struct SaliencyStage {
+    builder: VsmBuilder,
+    prev: Option<Image>,
+    vsm: Option<Arc<Vsm>>,
+    reuse: ReuseOptions,
+    /// Vector marks for frames that bring none, and how they are drawn.
+    marks: Option<Arc<VectorLayer>>,
+    vector: VectorOptions,
+    /// The VSM raised under vector marks (§5.3).
+    raised: RaisedVsm,
+}
+
+/// What the saliency stage hands on.
+pub(crate) struct Saliency {
+    pub vsm: Arc<Vsm>,
+    /// Tiles whose pixels differ from the previous frame (all tiles for a first frame).
+    pub dirty: TileMask,
+    /// No previous frame of this size: everything downstream starts over.
+    pub fresh: bool,
+}
+
+impl SaliencyStage {
+    pub fn new(options: &Options) -> SaliencyStage {
+        SaliencyStage {
+            builder: VsmBuilder::new(),
+            prev: None,
+            vsm: None,
+            reuse: options.reuse.clone(),
+            marks: options.marks.clone(),
+            vector: options.vector.clone(),
+            raised: RaisedVsm::default(),
+        }
+    }
+
+    /// The frame's saliency: of the whole visualization when it has vector marks (drawn into
+    /// the raster for it), raised under the marks.
+    pub fn run(&mut self, mut frame: Frame) -> Result<WithVsm, Error> {
+        let t = Instant::now();
+        let whole = prepare_frame(&mut frame, self.marks.as_ref(), &self.vector)?;
+        let mut sal = self.vsm_of(whole.as_ref().unwrap_or(&frame.image));
+        sal.vsm = self.raised.apply(&sal.vsm, frame.marks.as_ref());
+        Ok(WithVsm {
+            frame,
+            sal,
+            whole,
+            times: StageTimes {
+                vsm_ms: ms(t),
+                ..StageTimes::default()
+            },
+        })
+    }
+
+    /// The VSM of `image`, recomputed only in the tiles that differ from the previous frame.
+    fn vsm_of(&mut self, image: &Image) -> Saliency {
+        let size = image.size();
+        let same = self.reuse.enabled
+            && self.prev.as_ref().is_some_and(|p| p.size() == size)
+            && self.vsm.is_some();
+        let out = if !same {
+            let vsm = Arc::new(self.builder.build(image.as_ref()));
+            let mut dirty = TileMask::new(size, self.reuse.tile_px);
+            for r in 0..dirty.rows() {
+                for c in 0..dirty.cols() {
+                    dirty.set(c, r);
+                }
+            }
+            Saliency {
+                vsm,
+                dirty,
+                fresh: true,
+            }
+        } else {
+            let prev = self.prev.as_ref().expect("checked");
+            let dirty = changed_tiles(prev, image, self.reuse.tile_px);
+            let current = self.vsm.as_ref().expect("checked");
+            let vsm = if dirty.is_empty() {
+                current.clone()
+            } else if dirty.fraction() > FULL_VSM_FRACTION {
+                Arc::new(self.builder.build(image.as_ref()))
+            } else {
+                let mut v = (**current).clone();
+                for [x0, y0, x1, y1] in dirty.rects(size) {
+                    self.builder
+                        .update_region(image.as_ref(), &mut v, Rect { x0, y0, x1, y1 });
+                }
+                Arc::new(v)
+            };
+            Saliency {
+                vsm,
+                dirty,
+                fresh: false,
+            }
+        };
+        self.vsm = Some(out.vsm.clone());
+        match &mut self.prev {
+            Some(p) if p.size() == size => p.pixels_mut().copy_from_slice(image.pixels()),
+            p => *p = Some(image.clone()),
+        }
+        out
+    }
+}
+
+/// The layer that applies to a frame: its own, else the options' one for every frame;
+/// checked, and the raster painted out under it if asked. Returns the picture to analyse
+/// (saliency, structure) when there are marks: the raster with the marks drawn in at their
+/// source places, i.e. the whole visualization, as the paper computes its saliency map
+/// (§5.3). Its normalization then matches the same picture given as pixels: a background
+/// alone would have its own faint content stretched to full saliency. The error names the
+/// frame.
+fn prepare_frame(
+    frame: &mut Frame,
+    marks: Option<&Arc<VectorLayer>>,
+    options: &VectorOptions,
+) -> Result<Option<Image>, Error> {
+    if frame.marks.is_none() {
+        frame.marks = marks.cloned();
+    }
+    let Some(layer) = frame.marks.as_ref().filter(|l| !l.is_empty()) else {
+        return Ok(None);
+    };
+    layer.validate().map_err(|m| {
+        Error::InvalidOptions(format!("the marks of frame {}: {m}", frame.frame_index))
+    })?;
+    if options.paint_out {
+        paint_out(&mut frame.image, layer);
+    }
+    let mut whole = frame.image.clone();
+    layer.draw(&mut whole);
+    Ok(Some(whole))
+}
