@@ -102,19 +102,13 @@ impl RenderStage {
         let target = warp.target();
         let floating = floating_marks(src, vsm, m, warp);
         // The warp reads the source with the floating marks painted out.
-        let warped: &Image = if floating.is_empty() {
-            src
-        } else {
-            let painted = match &mut self.painted {
-                Some(p) if p.size() == src.size() => {
-                    p.pixels_mut().copy_from_slice(src.pixels());
-                    p
-                }
-                p => p.insert(src.clone()),
-            };
-            floating.paint_out(painted, mesh.structure(), &mut self.scratch);
-            painted
-        };
+        let warped = painted_out(
+            src,
+            &floating,
+            mesh.structure(),
+            &mut self.painted,
+            &mut self.scratch,
+        );
         let usable = self.prev.as_ref().filter(|p| {
             decision != Decision::Rebuild
                 && p.image.size() == target
@@ -142,43 +136,8 @@ impl RenderStage {
                 (out, false)
             }
             Some(p) => {
-                let kept = unchanged_triangles(&p.mesh, &p.warp, mesh, warp);
-                // Source pixels under floating marks (then and now) were painted out
-                // differently; output pixels they were and are drawn on must be redrawn.
-                let mut dirty = dirty.clone();
-                let (mut src_rects, mut out_rects) = (Vec::new(), Vec::new());
-                for f in [&p.floating, &floating] {
-                    src_rects.extend(f.source_rects());
-                    out_rects.extend(f.output_rects());
-                }
-                let t = dirty.tile_px() as f64;
-                for [x0, y0, x1, y1] in src_rects {
-                    let (c0, r0) = ((x0 / t) as u32, (y0 / t) as u32);
-                    let (c1, r1) = ((x1 / t).ceil() as u32, (y1 / t).ceil() as u32);
-                    for r in r0..r1 {
-                        for c in c0..c1 {
-                            dirty.set(c, r);
-                        }
-                    }
-                }
-                let q = warp.positions();
-                let tris = mesh.triangles();
-                let drawn_over = |t: usize| {
-                    let v = tris[t].map(|i| q[i as usize]);
-                    let lo = v[0].min(v[1]).min(v[2]);
-                    let hi = v[0].max(v[1]).max(v[2]);
-                    out_rects.iter().any(|r| {
-                        lo.x < r[2] + 1.0
-                            && hi.x > r[0] - 1.0
-                            && lo.y < r[3] + 1.0
-                            && hi.y > r[1] - 1.0
-                    })
-                };
-                let mut out = p.image.clone();
-                self.renderer
-                    .render_partial(warped.as_ref(), mesh, warp, &mut out, &|t, r| {
-                        kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3]) && !drawn_over(t)
-                    });
+                let out =
+                    redraw_changed(&mut self.renderer, warped, mesh, warp, p, &floating, dirty);
                 (out, false)
             }
         };
@@ -195,6 +154,73 @@ impl RenderStage {
         });
         out
     }
+}
+
+/// `src`, or, with marks floating, `src` with them painted out into the buffer `painted`.
+fn painted_out<'a>(
+    src: &'a Image,
+    floating: &Floating,
+    structure: Option<&Structure>,
+    painted: &'a mut Option<Image>,
+    scratch: &mut Vec<bool>,
+) -> &'a Image {
+    if floating.is_empty() {
+        return src;
+    }
+    match painted {
+        Some(p) if p.size() == src.size() => p.pixels_mut().copy_from_slice(src.pixels()),
+        _ => *painted = Some(src.clone()),
+    }
+    let painted = painted.get_or_insert_with(|| src.clone());
+    floating.paint_out(painted, structure, scratch);
+    painted
+}
+
+/// The previous output with only what changed redrawn: triangles that are new or moved, lie
+/// over tiles whose pixels changed, or lie under a floating mark of then or now (source
+/// pixels under one were painted out differently, output pixels it was or is drawn on must be
+/// drawn again).
+fn redraw_changed(
+    renderer: &mut Renderer,
+    warped: &Image,
+    mesh: &Mesh,
+    warp: &Warp,
+    prev: &Previous,
+    floating: &Floating,
+    dirty: &TileMask,
+) -> Image {
+    let kept = unchanged_triangles(&prev.mesh, &prev.warp, mesh, warp);
+    let mut dirty = dirty.clone();
+    let (mut src_rects, mut out_rects) = (Vec::new(), Vec::new());
+    for f in [&prev.floating, floating] {
+        src_rects.extend(f.source_rects());
+        out_rects.extend(f.output_rects());
+    }
+    let t = dirty.tile_px() as f64;
+    for [x0, y0, x1, y1] in src_rects {
+        let (c0, r0) = ((x0 / t) as u32, (y0 / t) as u32);
+        let (c1, r1) = ((x1 / t).ceil() as u32, (y1 / t).ceil() as u32);
+        for r in r0..r1 {
+            for c in c0..c1 {
+                dirty.set(c, r);
+            }
+        }
+    }
+    let q = warp.positions();
+    let tris = mesh.triangles();
+    let drawn_over = |t: usize| {
+        let v = tris[t].map(|i| q[i as usize]);
+        let lo = v[0].min(v[1]).min(v[2]);
+        let hi = v[0].max(v[1]).max(v[2]);
+        out_rects.iter().any(|r| {
+            lo.x < r[2] + 1.0 && hi.x > r[0] - 1.0 && lo.y < r[3] + 1.0 && hi.y > r[1] - 1.0
+        })
+    };
+    let mut out = prev.image.clone();
+    renderer.render_partial(warped.as_ref(), mesh, warp, &mut out, &|t, r| {
+        kept[t] && !dirty.intersects(r[0], r[1], r[2], r[3]) && !drawn_over(t)
+    });
+    out
 }
 
 /// The marks drawn over the warp at their own shape: the marks of a stream that the kept

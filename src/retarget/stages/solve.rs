@@ -9,9 +9,9 @@ use crate::mesh::Mesh;
 use crate::raster::snap;
 use crate::retarget::reuse::Decision;
 use crate::saliency::Vsm;
-use crate::solve::{EnergyParams, SalientFit, SolveStats, Solver, Warp};
+use crate::solve::{EnergyParams, Locator, SalientFit, SolveStats, Solver, Warp};
 use glam::DVec2;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -71,91 +71,85 @@ impl SolveStage {
         })
     }
 
+    /// The warp for a mesh: the previous one for a kept mesh, a linear map for a canvas taken
+    /// whole, a local solve warm-started from the previous warp for an update, else a full
+    /// solve.
     fn solve(&mut self, vsm: &Vsm, m: &Meshed) -> Result<Solved, Error> {
         let mesh = &m.mesh;
         if m.decision == Decision::Reuse {
-            if let Some((pm, pw)) = &self.prev {
-                if Arc::ptr_eq(pm, mesh) {
-                    return Ok(Solved {
-                        warp: pw.clone(),
-                        stats: SolveStats {
-                            salient_scale: self.salient_fit.similar,
-                            salient_fit: self.salient_fit.free,
-                            ..SolveStats::default()
-                        },
-                        decision: Decision::Reuse,
-                    });
-                }
+            if let Some(kept) = self.kept(mesh) {
+                return Ok(kept);
             }
         }
         // A canvas taken whole has one linear map: nothing to solve (its text floats).
         let canvas = mesh.structure().filter(|s| s.whole_canvas());
-        if let (None, Some(s)) = (&self.enhance, canvas) {
-            let warp = Arc::new(Warp::linear(mesh, self.target));
-            self.prev = Some((mesh.clone(), warp.clone()));
-            return Ok(Solved {
-                warp,
-                stats: SolveStats {
+        let (warp, stats, decision) = match (&self.enhance, canvas) {
+            (None, Some(s)) => {
+                let stats = SolveStats {
                     text_blocks: s.text.len(),
                     ..SolveStats::default()
-                },
-                decision: Decision::Rebuild,
-            });
-        }
-        if m.decision == Decision::Update && self.enhance.is_none() {
-            if let Some((pm, pw)) = &self.prev {
-                let held: HashMap<u64, DVec2> = pm
-                    .ids()
-                    .iter()
-                    .copied()
-                    .zip(pw.positions().iter().copied())
-                    .collect();
-                let fixed: Vec<Option<DVec2>> =
-                    mesh.ids().iter().map(|id| held.get(id).copied()).collect();
-                // New vertices are pulled to where the previous warp maps their source point.
-                // A moved mark's centre is held much harder: it then lands where the old warp
-                // maps it, a smooth function of its position, and the mark moves in the output
-                // by as many whole pixels as that says (no extra jumps from re-solving).
-                let locator = pw.locator(pm);
-                let centres: std::collections::HashSet<(u64, u64)> = mesh
-                    .marks()
-                    .iter()
-                    .map(|m| (snap(m.center.x).to_bits(), snap(m.center.y).to_bits()))
-                    .collect();
-                let anchors: Vec<Option<(DVec2, f64)>> = mesh
-                    .vertices()
-                    .iter()
-                    .zip(&fixed)
-                    .map(|(&p, f)| {
-                        if f.is_some() {
-                            return None;
-                        }
-                        let k = if centres.contains(&(p.x.to_bits(), p.y.to_bits())) {
-                            MARK_CENTRE_HOLD
-                        } else {
-                            1.0
-                        };
-                        locator.map_inside(p).map(|q| (q, k))
-                    })
-                    .collect();
-                if let Some((warp, stats)) = self.solver.solve_local(
-                    mesh,
-                    vsm,
-                    self.target,
-                    &fixed,
-                    &anchors,
-                    self.salient_fit,
-                )? {
-                    let warp = Arc::new(warp);
-                    self.prev = Some((mesh.clone(), warp.clone()));
-                    return Ok(Solved {
-                        warp,
-                        stats,
-                        decision: Decision::Update,
-                    });
-                }
+                };
+                (Warp::linear(mesh, self.target), stats, Decision::Rebuild)
             }
+            _ => match self.local(vsm, m)? {
+                Some((warp, stats)) => (warp, stats, Decision::Update),
+                // A full solve changes the whole frame, also when it stands in for an update
+                // whose local solve kept folds.
+                None => {
+                    let (warp, stats) = self.full(vsm, mesh)?;
+                    (warp, stats, Decision::Rebuild)
+                }
+            },
+        };
+        let warp = Arc::new(warp);
+        self.prev = Some((mesh.clone(), warp.clone()));
+        Ok(Solved {
+            warp,
+            stats,
+            decision,
+        })
+    }
+
+    /// The previous warp, if it was solved for this very mesh.
+    fn kept(&self, mesh: &Arc<Mesh>) -> Option<Solved> {
+        let (pm, pw) = self.prev.as_ref()?;
+        Arc::ptr_eq(pm, mesh).then(|| Solved {
+            warp: pw.clone(),
+            stats: SolveStats {
+                salient_scale: self.salient_fit.similar,
+                salient_fit: self.salient_fit.free,
+                ..SolveStats::default()
+            },
+            decision: Decision::Reuse,
+        })
+    }
+
+    /// For a mesh updated tile by tile (and no enhancement, whose `δ` a local solve lacks): a
+    /// solve of the re-sampled vertices only, the kept ones held where the previous warp put
+    /// them; `None` when there is no previous warp or the local solve kept folds.
+    fn local(&mut self, vsm: &Vsm, m: &Meshed) -> Result<Option<(Warp, SolveStats)>, Error> {
+        if m.decision != Decision::Update || self.enhance.is_some() {
+            return Ok(None);
         }
+        let Some((pm, pw)) = &self.prev else {
+            return Ok(None);
+        };
+        let mesh = &m.mesh;
+        let held: HashMap<u64, DVec2> = pm
+            .ids()
+            .iter()
+            .copied()
+            .zip(pw.positions().iter().copied())
+            .collect();
+        let fixed: Vec<Option<DVec2>> = mesh.ids().iter().map(|id| held.get(id).copied()).collect();
+        let anchors = anchors(mesh, &fixed, &pw.locator(pm));
+        self.solver
+            .solve_local(mesh, vsm, self.target, &fixed, &anchors, self.salient_fit)
+    }
+
+    /// The whole energy solved afresh (with `δ` per triangle under enhancement); the salient
+    /// fit it found is kept for the frames that reuse its warp.
+    fn full(&mut self, vsm: &Vsm, mesh: &Mesh) -> Result<(Warp, SolveStats), Error> {
         let (warp, stats) = match &self.enhance {
             Some(e) => {
                 let delta = e.triangle_factors(mesh, vsm);
@@ -173,14 +167,33 @@ impl SolveStage {
             free: stats.salient_fit,
             similar: stats.salient_scale,
         };
-        let warp = Arc::new(warp);
-        self.prev = Some((mesh.clone(), warp.clone()));
-        // A full solve changes the whole frame, also when it stands in for an update whose
-        // local solve kept folds.
-        Ok(Solved {
-            warp,
-            stats,
-            decision: Decision::Rebuild,
-        })
+        Ok((warp, stats))
     }
+}
+
+/// Where each re-sampled vertex of `mesh` (not `fixed`) is pulled, and how hard: to where the
+/// previous warp maps its source point. A moved mark's centre is held much harder: it then
+/// lands where the old warp maps it, a smooth function of its position, and the mark moves in
+/// the output by as many whole pixels as that says (no extra jumps from re-solving).
+fn anchors(mesh: &Mesh, fixed: &[Option<DVec2>], previous: &Locator) -> Vec<Option<(DVec2, f64)>> {
+    let centres: HashSet<(u64, u64)> = mesh
+        .marks()
+        .iter()
+        .map(|m| (snap(m.center.x).to_bits(), snap(m.center.y).to_bits()))
+        .collect();
+    mesh.vertices()
+        .iter()
+        .zip(fixed)
+        .map(|(&p, f)| {
+            if f.is_some() {
+                return None;
+            }
+            let k = if centres.contains(&(p.x.to_bits(), p.y.to_bits())) {
+                MARK_CENTRE_HOLD
+            } else {
+                1.0
+            };
+            previous.map_inside(p).map(|q| (q, k))
+        })
+        .collect()
 }
