@@ -154,25 +154,74 @@ fn size_label(s: Size) -> String {
     format!("{}×{}", s.width, s.height)
 }
 
+/// Scales the panels to fit the sheet's bounds, sets them in rows and draws them with their
+/// labels.
 fn layout(panels: Vec<Panel>, options: &SheetOptions) -> Image {
-    let font = FontRef::try_from_slice(FONT).ok();
-    let font_px = options.font_px.clamp(6.0, 200.0);
-    let line_h = font.as_ref().map_or(0, |f| {
-        f.as_scaled(PxScale::from(font_px)).height().ceil() as u32
-    });
+    let labels = Labels::new(options.font_px);
     let max_width = options.max_width.max(64);
-    // One display scale for every panel.
+    let scale = display_scale(&panels, max_width, options.max_height);
+    let panels = at_scale(panels, scale);
+    // A panel's box is its image plus a 1-px frame, with the label above.
+    let widths: Vec<u32> = panels.iter().map(|p| p.image.width() + 2).collect();
+    let rows = even_rows(&widths, max_width);
+    draw_sheet(&panels, &rows, &labels, options.background)
+}
+
+/// The label font at the sheet's size. Without a font there are no labels, and no room is
+/// kept for them.
+struct Labels {
+    font: Option<FontRef<'static>>,
+    px: f32,
+    line_h: u32,
+}
+
+impl Labels {
+    fn new(font_px: f32) -> Labels {
+        let font = FontRef::try_from_slice(FONT).ok();
+        let px = font_px.clamp(6.0, 200.0);
+        let line_h = font
+            .as_ref()
+            .map_or(0, |f| f.as_scaled(PxScale::from(px)).height().ceil() as u32);
+        Labels { font, px, line_h }
+    }
+
+    /// The height of `p`'s label, with the gap under it.
+    fn height(&self, p: &Panel) -> u32 {
+        p.lines.len() as u32 * self.line_h + LABEL_GAP
+    }
+
+    /// Draws `p`'s label with its top-left at `(x, y)`, clipped to the panel's box so that a
+    /// long label does not run into the next panel.
+    fn draw(&self, sheet: &mut Image, p: &Panel, x: u32, y: u32) {
+        let Some(f) = &self.font else {
+            return;
+        };
+        let x_end = x + p.image.width() + 2;
+        for (k, line) in p.lines.iter().enumerate() {
+            let top = (y + k as u32 * self.line_h) as f32;
+            draw_text(sheet, f, self.px, x as f32, top, x_end, line);
+        }
+    }
+}
+
+/// One display scale for every panel, so that they keep their true relative sizes: 1 unless
+/// the widest would not fit `max_width` or the tallest `max_height`.
+fn display_scale(panels: &[Panel], max_width: u32, max_height: u32) -> f64 {
     let widest = panels.iter().map(|p| p.image.width()).max().unwrap_or(1);
     let tallest = panels.iter().map(|p| p.image.height()).max().unwrap_or(1);
-    let scale = (1.0f64)
+    (1.0f64)
         .min((max_width - 2 * MARGIN - 2) as f64 / widest as f64)
-        .min(options.max_height.max(16) as f64 / tallest as f64);
-    let panels: Vec<Panel> = panels
+        .min(max_height.max(16) as f64 / tallest as f64)
+}
+
+/// The panels at display `scale` (below 1 only: panels are never enlarged).
+fn at_scale(panels: Vec<Panel>, scale: f64) -> Vec<Panel> {
+    if scale >= 1.0 {
+        return panels;
+    }
+    panels
         .into_iter()
         .map(|p| {
-            if scale >= 1.0 {
-                return p;
-            }
             let s = p.image.size();
             let size = Size {
                 width: ((s.width as f64 * scale).round() as u32).max(1),
@@ -183,84 +232,89 @@ fn layout(panels: Vec<Panel>, options: &SheetOptions) -> Image {
                 lines: p.lines,
             }
         })
-        .collect();
-    // Rows: greedy, left to right. A panel's box is its image plus a 1-px frame, with the
-    // label above.
-    let label_h = |p: &Panel| p.lines.len() as u32 * line_h + LABEL_GAP;
-    let widths: Vec<u32> = panels.iter().map(|p| p.image.width() + 2).collect();
-    let greedy = |limit: u32| -> Vec<Vec<usize>> {
-        let mut rows: Vec<Vec<usize>> = vec![Vec::new()];
-        let mut x = MARGIN;
-        for (i, &w) in widths.iter().enumerate() {
-            let row = rows.last_mut().expect("one row");
-            if !row.is_empty() && x + w + MARGIN > limit {
-                rows.push(vec![i]);
-                x = MARGIN + w + GAP;
-            } else {
-                row.push(i);
-                x += w + GAP;
-            }
+        .collect()
+}
+
+/// Panels (by index) in rows of at most `limit` px, filled greedily left to right.
+fn greedy_rows(widths: &[u32], limit: u32) -> Vec<Vec<usize>> {
+    let mut rows: Vec<Vec<usize>> = vec![Vec::new()];
+    let mut x = MARGIN;
+    for (i, &w) in widths.iter().enumerate() {
+        let row = rows.last_mut().expect("one row");
+        if !row.is_empty() && x + w + MARGIN > limit {
+            rows.push(vec![i]);
+            x = MARGIN + w + GAP;
+        } else {
+            row.push(i);
+            x += w + GAP;
         }
-        rows
-    };
-    // As many rows as `max_width` needs, then as even as they go: the narrowest limit that
-    // still fits in that many rows (so six panels make rows of three and three, not five and
-    // one).
-    let mut rows = greedy(max_width);
+    }
+    rows
+}
+
+/// As many rows as `max_width` needs, then as even as they go: the narrowest limit that still
+/// fits in that many rows (so six panels make rows of three and three, not five and one).
+fn even_rows(widths: &[u32], max_width: u32) -> Vec<Vec<usize>> {
+    let mut rows = greedy_rows(widths, max_width);
     let total: u32 = widths.iter().sum::<u32>() + GAP * widths.len() as u32 + 2 * MARGIN;
     let mut limit = (total / rows.len() as u32).min(max_width);
     while limit < max_width {
-        let r = greedy(limit);
+        let r = greedy_rows(widths, limit);
         if r.len() <= rows.len() {
             rows = r;
             break;
         }
         limit += 16;
     }
-    let row_width = |r: &[usize]| -> u32 {
-        r.iter().map(|&i| panels[i].image.width() + 2).sum::<u32>()
-            + GAP * (r.len() as u32).saturating_sub(1)
-    };
-    let row_height = |r: &[usize]| -> u32 {
-        r.iter()
-            .map(|&i| label_h(&panels[i]) + panels[i].image.height() + 2)
-            .max()
-            .unwrap_or(0)
-    };
-    let width = rows.iter().map(|r| row_width(r)).max().unwrap_or(0) + 2 * MARGIN;
-    let height = rows.iter().map(|r| row_height(r)).sum::<u32>()
+    rows
+}
+
+/// The width of row `r`: its panels' boxes and the gaps between them.
+fn row_width(panels: &[Panel], r: &[usize]) -> u32 {
+    r.iter().map(|&i| panels[i].image.width() + 2).sum::<u32>()
+        + GAP * (r.len() as u32).saturating_sub(1)
+}
+
+/// The height of row `r`: its tallest panel, label and frame included.
+fn row_height(panels: &[Panel], r: &[usize], labels: &Labels) -> u32 {
+    r.iter()
+        .map(|&i| labels.height(&panels[i]) + panels[i].image.height() + 2)
+        .max()
+        .unwrap_or(0)
+}
+
+/// The sheet: `rows` of framed panels under their labels, within a margin.
+fn draw_sheet(
+    panels: &[Panel],
+    rows: &[Vec<usize>],
+    labels: &Labels,
+    background: [u8; 4],
+) -> Image {
+    let width = rows.iter().map(|r| row_width(panels, r)).max().unwrap_or(0) + 2 * MARGIN;
+    let height = rows
+        .iter()
+        .map(|r| row_height(panels, r, labels))
+        .sum::<u32>()
         + GAP * (rows.len() as u32).saturating_sub(1)
         + 2 * MARGIN;
     let size = Size {
         width: width.max(1),
         height: height.max(1),
     };
-    let mut sheet = Image::filled(size, options.background);
+    let mut sheet = Image::filled(size, background);
     let mut y = MARGIN;
-    for r in &rows {
+    for r in rows {
         let mut x = MARGIN;
         for &i in r {
             let p = &panels[i];
             let (pw, ph) = (p.image.width(), p.image.height());
-            if let Some(f) = &font {
-                for (k, line) in p.lines.iter().enumerate() {
-                    draw_text(
-                        &mut sheet,
-                        f,
-                        font_px,
-                        x as f32,
-                        (y + k as u32 * line_h) as f32,
-                        x + pw + 2,
-                        line,
-                    );
-                }
-            }
-            let top = y + label_h(p);
+            labels.draw(&mut sheet, p, x, y);
+            let top = y + labels.height(p);
             frame(&mut sheet, x, top, pw + 2, ph + 2);
-            blit(&mut sheet, &p.image, x + 1, top + 1, options.background);
+            blit(&mut sheet, &p.image, x + 1, top + 1, background);
             x += pw + 2 + GAP;
         }
-        y += row_height(r) + GAP;
+        y += row_height(panels, r, labels) + GAP;
     }
     sheet
 }

@@ -51,7 +51,8 @@ pub enum Error {
     #[error("aborted")]
     Aborted,
 
-    /// A bug: a stage panicked. The message says where.
+    /// A bug: a stage panicked, or something the library keeps true did not hold. The
+    /// message says where, or which.
     #[error("internal error: {0}")]
     Internal(String),
 
@@ -84,6 +85,18 @@ pub enum Error {
         expected: usize,
         got: usize,
     },
+
+    /// The output format cannot hold what it was given (a GIF's sides are 16-bit, at most
+    /// 65535 px): `message` names the format and its limit. Neither the input nor the
+    /// library is at fault; another format can hold it.
+    #[error("{}: {message}", path.display())]
+    Unsupported { path: PathBuf, message: String },
+
+    /// A method was called in a state that does not allow it (a frame sent after `flush`, a
+    /// frame added to a GIF already finished): a bug in the caller. The message names the
+    /// call and the state.
+    #[error("called out of order: {0}")]
+    OutOfOrder(String),
 }
 
 /// Which limit an input went past ([`Error::LimitExceeded`]).

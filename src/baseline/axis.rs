@@ -130,54 +130,130 @@ fn scales(
     sx: f64,
     sy: f64,
 ) -> (Vec<f64>, Vec<f64>) {
-    let (m, n) = (widths.len(), heights.len());
-    let vars = m + n;
-    let dim = vars + 2;
-    // Quadratic form zᵀQz − 2cᵀz over z = [a; b].
-    let mut q = vec![0.0; vars * vars];
-    let mut c = vec![0.0; vars];
-    let mut total = 0.0;
-    let mut weight_sum = 0.0;
-    for (i, row) in w.iter().enumerate() {
-        for (j, &wij) in row.iter().enumerate() {
-            let k = widths[j] * heights[i] * wij;
-            let (aj, bi) = (j, m + i);
-            q[aj * vars + aj] += k * (1.0 + SIZE_PRIOR);
-            q[bi * vars + bi] += k * (1.0 + SIZE_PRIOR);
-            q[aj * vars + bi] -= k;
-            q[bi * vars + aj] -= k;
-            c[aj] += k * SIZE_PRIOR;
-            c[bi] += k * SIZE_PRIOR;
-            total += widths[j] * heights[i];
-            weight_sum += k;
-        }
-    }
-    let eta = SMOOTHNESS * weight_sum / total.max(1.0);
-    let mut smooth = |u: usize, v: usize, k: f64| {
-        q[u * vars + u] += k;
-        q[v * vars + v] += k;
-        q[u * vars + v] -= k;
-        q[v * vars + u] -= k;
+    let axes = Axes {
+        widths,
+        heights,
+        sx,
+        sy,
     };
-    let height: f64 = heights.iter().sum();
-    let width: f64 = widths.iter().sum();
-    for j in 1..m {
-        smooth(j - 1, j, eta * height * 0.5 * (widths[j - 1] + widths[j]));
+    let (m, n) = (widths.len(), heights.len());
+    let energy = axes.energy(w);
+    let mut z = axes.bounded_minimum(&energy);
+    if z.iter().any(|v| !v.is_finite() || *v <= 0.0) {
+        // Never expected (the system is definite); uniform scaling is always valid.
+        return (vec![sx; m], vec![sy; n]);
     }
-    for i in 1..n {
-        smooth(
-            m + i - 1,
-            m + i,
-            eta * width * 0.5 * (heights[i - 1] + heights[i]),
-        );
+    let b = z.split_off(m);
+    (z, b)
+}
+
+/// The problem's shape: the columns' widths and the rows' heights, and the uniform scales
+/// `sx`, `sy` that the total width and height must come to. Unknowns are numbered columns
+/// first: `z = [a; b]`.
+struct Axes<'a> {
+    widths: &'a [f64],
+    heights: &'a [f64],
+    sx: f64,
+    sy: f64,
+}
+
+/// The energy as the quadratic form `zᵀQz − 2cᵀz`, `q` row-major over the unknowns.
+struct Energy {
+    q: Vec<f64>,
+    c: Vec<f64>,
+}
+
+impl Axes<'_> {
+    fn vars(&self) -> usize {
+        self.widths.len() + self.heights.len()
     }
-    let lower: Vec<f64> = (0..vars)
-        .map(|v| MIN_SHARE * if v < m { sx } else { sy })
-        .collect();
-    let mut fixed: Vec<Option<f64>> = vec![None; vars];
-    let mut z = vec![0.0; vars];
-    for _ in 0..vars {
-        // KKT system [Q Aᵀ; A 0] with fixed unknowns as identity rows.
+
+    /// The shape and size terms of every cell, then the smoothness between neighbours, whose
+    /// weight `η` is relative to the cells' mean weight so that it means the same on busy and
+    /// empty images.
+    fn energy(&self, w: &[Vec<f64>]) -> Energy {
+        let (widths, heights) = (self.widths, self.heights);
+        let (m, n) = (widths.len(), heights.len());
+        let vars = self.vars();
+        let mut q = vec![0.0; vars * vars];
+        let mut c = vec![0.0; vars];
+        let mut total = 0.0;
+        let mut weight_sum = 0.0;
+        for (i, row) in w.iter().enumerate() {
+            for (j, &wij) in row.iter().enumerate() {
+                let k = widths[j] * heights[i] * wij;
+                let (aj, bi) = (j, m + i);
+                q[aj * vars + aj] += k * (1.0 + SIZE_PRIOR);
+                q[bi * vars + bi] += k * (1.0 + SIZE_PRIOR);
+                q[aj * vars + bi] -= k;
+                q[bi * vars + aj] -= k;
+                c[aj] += k * SIZE_PRIOR;
+                c[bi] += k * SIZE_PRIOR;
+                total += widths[j] * heights[i];
+                weight_sum += k;
+            }
+        }
+        let eta = SMOOTHNESS * weight_sum / total.max(1.0);
+        let mut smooth = |u: usize, v: usize, k: f64| {
+            q[u * vars + u] += k;
+            q[v * vars + v] += k;
+            q[u * vars + v] -= k;
+            q[v * vars + u] -= k;
+        };
+        let height: f64 = heights.iter().sum();
+        let width: f64 = widths.iter().sum();
+        for j in 1..m {
+            smooth(j - 1, j, eta * height * 0.5 * (widths[j - 1] + widths[j]));
+        }
+        for i in 1..n {
+            smooth(
+                m + i - 1,
+                m + i,
+                eta * width * 0.5 * (heights[i - 1] + heights[i]),
+            );
+        }
+        Energy { q, c }
+    }
+
+    /// The minimum of `e` under the size constraints and the lower bounds, by an active set:
+    /// solve with the bounds free, fix every unknown below its bound at the bound, solve
+    /// again, until none is below (at most once per unknown). A singular system keeps the
+    /// last solution (zeros if there is none: the caller falls back to uniform scaling).
+    fn bounded_minimum(&self, e: &Energy) -> Vec<f64> {
+        let vars = self.vars();
+        let m = self.widths.len();
+        let lower: Vec<f64> = (0..vars)
+            .map(|v| MIN_SHARE * if v < m { self.sx } else { self.sy })
+            .collect();
+        let mut fixed: Vec<Option<f64>> = vec![None; vars];
+        let mut z = vec![0.0; vars];
+        for _ in 0..vars {
+            let (mut k, mut rhs) = self.kkt(e, &fixed);
+            match solve_dense(&mut k, &mut rhs, vars + 2) {
+                Some(()) => z.copy_from_slice(&rhs[..vars]),
+                None => break,
+            }
+            let mut clamped = false;
+            for v in 0..vars {
+                if fixed[v].is_none() && z[v] < lower[v] {
+                    fixed[v] = Some(lower[v]);
+                    clamped = true;
+                }
+            }
+            if !clamped {
+                break;
+            }
+        }
+        z
+    }
+
+    /// The KKT system `[Q Aᵀ; A 0]` of `e` under the two size constraints (the last two rows),
+    /// with the `fixed` unknowns as identity rows; row-major, and its right-hand side.
+    fn kkt(&self, e: &Energy, fixed: &[Option<f64>]) -> (Vec<f64>, Vec<f64>) {
+        let (widths, heights) = (self.widths, self.heights);
+        let (m, n) = (widths.len(), heights.len());
+        let vars = self.vars();
+        let dim = vars + 2;
         let mut k = vec![0.0; dim * dim];
         let mut rhs = vec![0.0; dim];
         for r in 0..vars {
@@ -186,14 +262,14 @@ fn scales(
                 rhs[r] = v;
                 continue;
             }
-            k[r * dim..r * dim + vars].copy_from_slice(&q[r * vars..(r + 1) * vars]);
+            k[r * dim..r * dim + vars].copy_from_slice(&e.q[r * vars..(r + 1) * vars]);
             let (len, row) = if r < m {
                 (widths[r], vars)
             } else {
                 (heights[r - m], vars + 1)
             };
             k[r * dim + row] = len;
-            rhs[r] = c[r];
+            rhs[r] = e.c[r];
         }
         for j in 0..m {
             k[vars * dim + j] = widths[j];
@@ -201,29 +277,12 @@ fn scales(
         for i in 0..n {
             k[(vars + 1) * dim + m + i] = heights[i];
         }
-        rhs[vars] = sx * width;
-        rhs[vars + 1] = sy * height;
-        match solve_dense(&mut k, &mut rhs, dim) {
-            Some(()) => z.copy_from_slice(&rhs[..vars]),
-            None => break,
-        }
-        let mut clamped = false;
-        for v in 0..vars {
-            if fixed[v].is_none() && z[v] < lower[v] {
-                fixed[v] = Some(lower[v]);
-                clamped = true;
-            }
-        }
-        if !clamped {
-            break;
-        }
+        let height: f64 = heights.iter().sum();
+        let width: f64 = widths.iter().sum();
+        rhs[vars] = self.sx * width;
+        rhs[vars + 1] = self.sy * height;
+        (k, rhs)
     }
-    if z.iter().any(|v| !v.is_finite() || *v <= 0.0) {
-        // Never expected (the system is definite); uniform scaling is always valid.
-        return (vec![sx; m], vec![sy; n]);
-    }
-    let b = z.split_off(m);
-    (z, b)
 }
 
 /// Gaussian elimination with partial pivoting of the `dim × dim` system in place; the

@@ -13,10 +13,77 @@ use vizretarget::io::{
     SinkOptions, STDIN_NAME,
 };
 use vizretarget::stream::{DetachedSource, Progress, VecSource};
-use vizretarget::{Options, Pipeline, Size};
+use vizretarget::{Limits, Options, Pipeline, RunSummary, Size};
 
 pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> Result<Outcome> {
     let args = &cli.stream;
+    let (limits, options) = check_request(cli, input_path, output, format)?;
+    // Until the source is detached below, a signal ends the program at once: nothing has
+    // been written yet, and opening stdin may wait on a writer that sends nothing.
+    let mut input = open_frames(cli, input_path, &limits)?;
+    // From here a first signal stops the reading (even a read that is blocked) and the frames
+    // already read are finished and written.
+    let cancel = interrupt::stop_gracefully();
+    let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
+    input.source = Box::new(DetachedSource::new(frames, cancel.clone()));
+    // The first frame's size (from the header, else by reading that frame): the target may
+    // depend on it, and the memory plan does.
+    let from = input.frame_size().map_err(|e| raw_hint(e, &input))?;
+    if from.is_none() && interrupt::interrupted() {
+        eprintln!("vizretarget: stopped before the first frame; nothing written");
+        return Ok(Outcome::Interrupted);
+    }
+    let target = match (cli.target().fixed(), from) {
+        (Some(t), _) => t,
+        (None, Some(f)) => cli.target().resolve(f)?,
+        (None, None) => bail!("{}: no frames", input_path.display()),
+    };
+    let sink_options = sink_options(cli, &input)?;
+    let plan = match from {
+        Some(f) => limits.plan_stream(input_path, f, target, format.held_bytes_per_pixel())?,
+        None => bail!("{}: no frames", input_path.display()),
+    };
+    let mut sink = open_sink(output, format, sink_options)?;
+    let reporter = reporter(cli, &input);
+    let result = Pipeline::run_planned(
+        &plan,
+        target,
+        &options,
+        &mut *input.source,
+        &mut *sink,
+        &reporter as &dyn Progress,
+        &cancel,
+    );
+    reporter.finish();
+    if let Some(path) = &args.stats_json {
+        reporter
+            .write_json(path, result.as_ref().ok())
+            .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
+    }
+    let interrupted = cancel.load(Ordering::SeqCst);
+    let Some(summary) = summary(result, interrupted, input_path, &input)? else {
+        eprintln!("vizretarget: stopped before the first frame; nothing written");
+        return Ok(Outcome::Interrupted);
+    };
+    if !args.quiet && !summary.output_closed {
+        eprintln!("{}", summary_line(&summary, from, target));
+    }
+    Ok(if interrupted {
+        Outcome::Interrupted
+    } else {
+        Outcome::Done
+    })
+}
+
+/// Checks what can be refused before any input is read (where the output goes, the options
+/// and the limits, whether the output would overwrite the input): a wrong command fails
+/// before it waits on a pipe. The limits and options to run with.
+fn check_request(
+    cli: &Cli,
+    input_path: &Path,
+    output: &Path,
+    format: SinkFormat,
+) -> Result<(Limits, Options)> {
     check_output_place(output, format)?;
     if is_std(output) && format != SinkFormat::PngSeq && std::io::stdout().is_terminal() {
         usage!(
@@ -35,7 +102,7 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
             .with_regions(cli.regions.into()),
         &limits,
     )?;
-    options.reuse = args.reuse();
+    options.reuse = cli.stream.reuse();
     options.validate().map_err(library_error)?;
     if format == SinkFormat::PngSeq && !is_std(input_path) && same_folder(input_path, output) {
         usage!(
@@ -44,6 +111,13 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
             output.display()
         );
     }
+    Ok((limits, options))
+}
+
+/// Opens the input as `--input-format` and `--input-size` say, with the vector marks of each
+/// frame when `--marks` gives them.
+fn open_frames(cli: &Cli, input_path: &Path, limits: &Limits) -> Result<Input> {
+    let args = &cli.stream;
     let input_size = args
         .input_size
         .map(|(w, h)| Size::new(w, h).map_err(vizretarget::Error::from))
@@ -56,47 +130,34 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         InputArg::Y4m => InputFormat::Y4m,
         InputArg::Png => InputFormat::PngStream,
     };
-    // Until the source is detached below, a signal ends the program at once: nothing has
-    // been written yet, and opening stdin may wait on a writer that sends nothing.
-    let mut input = open_input_with(input_path, input_format, input_size, &limits)
+    let mut input = open_input_with(input_path, input_format, input_size, limits)
         .map_err(|e| empty_stdin_hint(e, input_path))
         .map_err(library_error)?;
     if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {
         let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
         input.source = Box::new(MarkedSource::new(frames, marks));
     }
-    // From here a first signal stops the reading (even a read that is blocked) and the frames
-    // already read are finished and written.
-    let cancel = interrupt::stop_gracefully();
-    let frames = std::mem::replace(&mut input.source, Box::new(VecSource::new([])));
-    input.source = Box::new(DetachedSource::new(frames, cancel.clone()));
-    // The first frame's size (from the header, else by reading that frame): the target may
-    // depend on it, and the memory plan does.
-    let from = input.frame_size().map_err(|e| raw_hint(e, &input))?;
-    if from.is_none() && interrupt::interrupted() {
-        eprintln!("vizretarget: stopped before the first frame; nothing written");
-        return Ok(Outcome::Interrupted);
-    }
-    let target = match (cli.target().fixed(), from) {
-        (Some(t), _) => t,
-        (None, Some(f)) => cli.target().resolve(f)?,
-        (None, None) => bail!("{}: no frames", input_path.display()),
-    };
-    let frame_rate = match args.fps {
+    Ok(input)
+}
+
+/// What the sink takes from the input: its frame rate (unless `--fps` sets one), its loop
+/// count and its frames' names.
+fn sink_options(cli: &Cli, input: &Input) -> Result<SinkOptions> {
+    let frame_rate = match cli.stream.fps {
         Some(f) => Some(FrameRate::from_fps(f).context("--fps is out of range")?),
         None => input.frame_rate,
     };
-    let sink_options = SinkOptions {
+    Ok(SinkOptions {
         frame_rate,
         repeat: input.source.repeat(),
         names: input.names.clone(),
-    };
-    let plan = match from {
-        Some(f) => limits.plan_stream(input_path, f, target, format.held_bytes_per_pixel())?,
-        None => bail!("{}: no frames", input_path.display()),
-    };
-    let mut sink = open_sink(output, format, sink_options)?;
-    let reporter = Reporter::new(
+    })
+}
+
+/// The progress bar, per-frame lines and statistics the options ask for.
+fn reporter(cli: &Cli, input: &Input) -> Reporter {
+    let args = &cli.stream;
+    Reporter::new(
         input.source.len_hint(),
         args.quiet,
         if cli.stats {
@@ -106,23 +167,18 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         },
         input.names.clone(),
         args.stats_json.is_some(),
-    );
-    let result = Pipeline::run_planned(
-        &plan,
-        target,
-        &options,
-        &mut *input.source,
-        &mut *sink,
-        &reporter as &dyn Progress,
-        &cancel,
-    );
-    reporter.finish();
-    if let Some(path) = &args.stats_json {
-        reporter
-            .write_json(path, result.as_ref().ok())
-            .with_context(|| format!("{}: cannot write the statistics", path.display()))?;
-    }
-    let interrupted = cancel.load(Ordering::SeqCst);
+    )
+}
+
+/// The run's summary, or `None` when a signal stopped it before the first frame (nothing is
+/// written then). A run that wrote no frame is an error naming the input, not the output:
+/// the input is what was empty.
+fn summary(
+    result: Result<RunSummary, vizretarget::Error>,
+    interrupted: bool,
+    input_path: &Path,
+    input: &Input,
+) -> Result<Option<RunSummary>> {
     let input_name = if is_std(input_path) {
         Path::new(STDIN_NAME)
     } else {
@@ -130,10 +186,7 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     };
     let summary = match result {
         // A GIF needs a frame: stopped before the first one, no file is written.
-        Err(vizretarget::Error::NoFrames(_)) if interrupted => {
-            eprintln!("vizretarget: stopped before the first frame; nothing written");
-            return Ok(Outcome::Interrupted);
-        }
+        Err(vizretarget::Error::NoFrames(_)) if interrupted => return Ok(None),
         // An empty input (raw stdin, whose size is given, is only found empty here) makes
         // the sink refuse to write nothing: the input is what to name.
         Err(vizretarget::Error::NoFrames(p)) if p != input_path => {
@@ -143,7 +196,7 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
                 nothing_arrived(input_path)
             )
         }
-        r => r.map_err(|e| raw_hint(e, &input)).map_err(run_error)?,
+        r => r.map_err(|e| raw_hint(e, input)).map_err(run_error)?,
     };
     if summary.frames == 0 && !interrupted && !summary.output_closed {
         bail!(
@@ -152,14 +205,7 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
             nothing_arrived(input_path)
         );
     }
-    if !args.quiet && !summary.output_closed {
-        eprintln!("{}", summary_line(&summary, from, target));
-    }
-    Ok(if interrupted {
-        Outcome::Interrupted
-    } else {
-        Outcome::Done
-    })
+    Ok(Some(summary))
 }
 
 /// A raw frame cut short usually means a wrong `--input-size` or `--input-format`: say so.

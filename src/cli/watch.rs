@@ -6,43 +6,21 @@ use super::stream::same_folder;
 use super::{interrupt, library_error, run_error, usage, Outcome};
 use anyhow::{bail, Context, Result};
 use std::collections::HashSet;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use vizretarget::io::{open_watch, FrameNames, PngSeqSink, SinkFormat, WatchOptions};
 use vizretarget::stream::{FrameSink, FrameSource, Progress};
-use vizretarget::{Frame, Options, Pipeline, Retargeted, RunSummary, Size};
+use vizretarget::{Frame, Limits, Options, Pipeline, Retargeted, RunSummary, Size};
 
 pub fn run(args: &WatchArgs) -> Result<Outcome> {
-    let options = Options::default()
-        .with_alpha(args.alpha)
-        .with_regions(args.regions.into());
-    options.validate().map_err(library_error)?;
-    if !args.dir.is_dir() {
-        bail!("{}: not a folder: watch needs a folder", args.dir.display());
-    }
-    if same_folder(&args.dir, &args.output) {
-        usage!(
-            "{}: the output folder must not be the watched one (its outputs would be taken \
-             for new snapshots)",
-            args.output.display()
-        );
-    }
+    let options = check_request(args)?;
     let sink = PngSeqSink::create(&args.output, None);
     // A first signal stops watching between snapshots; the ones in flight are written.
     let cancel = interrupt::stop_gracefully();
     let limits = args.limits.limits(None);
-    let watch_options = WatchOptions {
-        settle: Duration::from_millis(args.settle_ms),
-        existing: true,
-        cancel: cancel.clone(),
-        on_warning: Box::new(|e| match super::limit_hint_of(e) {
-            Some(hint) => eprintln!("vizretarget: warning: {e}; {hint}"),
-            None => eprintln!("vizretarget: warning: {e}"),
-        }),
-        limits: limits.clone(),
-    };
-    let mut input = open_watch(&args.dir, watch_options).map_err(library_error)?;
+    let mut input =
+        open_watch(&args.dir, watch_options(args, &cancel, &limits)).map_err(library_error)?;
     let names = input.names.clone();
     let sink = match sink {
         Ok(_) => PngSeqSink::create(&args.output, names.clone())?,
@@ -75,37 +53,13 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
         current: None,
         held: None,
     };
-    let mut total = RunSummary::default();
-    let mut result = Ok(());
-    // The first snapshot of each run (waited for): the memory plan depends on its size. A
-    // later, larger snapshot that would not fit the plan stops watching with an error.
-    while let Some((from, target)) = group.start()? {
-        let plan = limits.plan_stream(
-            &args.dir,
-            from,
-            target,
-            SinkFormat::PngSeq.held_bytes_per_pixel(),
-        )?;
-        let run = Pipeline::run_planned(
-            &plan,
-            target,
-            &options,
-            &mut group,
-            &mut sink,
-            &reporter as &dyn Progress,
-            &cancel,
-        );
-        match run {
-            Ok(s) => add(&mut total, &s),
-            Err(e) => {
-                result = Err(e);
-                break;
-            }
-        }
-        if cancel.load(Ordering::SeqCst) || group.held.is_none() {
-            break;
-        }
-    }
+    let runs = Runs {
+        args,
+        limits: &limits,
+        options: &options,
+        cancel: &cancel,
+    };
+    let (total, result) = runs.until_stopped(&mut group, &mut sink, &reporter)?;
     if let Some(path) = &args.stats_json {
         reporter
             .write_json(path, result.as_ref().ok().map(|_| &total))
@@ -125,6 +79,88 @@ pub fn run(args: &WatchArgs) -> Result<Outcome> {
     } else {
         Outcome::Done
     })
+}
+
+/// Checks what can be refused before watching starts: the options, the folder, and an output
+/// folder that would feed the watch its own outputs. The options to run with.
+fn check_request(args: &WatchArgs) -> Result<Options> {
+    let options = Options::default()
+        .with_alpha(args.alpha)
+        .with_regions(args.regions.into());
+    options.validate().map_err(library_error)?;
+    if !args.dir.is_dir() {
+        bail!("{}: not a folder: watch needs a folder", args.dir.display());
+    }
+    if same_folder(&args.dir, &args.output) {
+        usage!(
+            "{}: the output folder must not be the watched one (its outputs would be taken \
+             for new snapshots)",
+            args.output.display()
+        );
+    }
+    Ok(options)
+}
+
+/// How the folder is watched: warnings (a snapshot that vanished or cannot be read) are
+/// printed and watching goes on, with the option that raises a limit a snapshot went past.
+fn watch_options(args: &WatchArgs, cancel: &Arc<AtomicBool>, limits: &Limits) -> WatchOptions {
+    WatchOptions {
+        settle: Duration::from_millis(args.settle_ms),
+        existing: true,
+        cancel: cancel.clone(),
+        on_warning: Box::new(|e| match super::limit_hint_of(e) {
+            Some(hint) => eprintln!("vizretarget: warning: {e}; {hint}"),
+            None => eprintln!("vizretarget: warning: {e}"),
+        }),
+        limits: limits.clone(),
+    }
+}
+
+/// What every run of the pipeline over the watched folder shares.
+struct Runs<'a> {
+    args: &'a WatchArgs,
+    limits: &'a Limits,
+    options: &'a Options,
+    cancel: &'a Arc<AtomicBool>,
+}
+
+impl Runs<'_> {
+    /// Runs the pipeline once per target, each run planned for the size of its first snapshot
+    /// (waited for): a later, larger snapshot that would not fit the plan stops watching with
+    /// an error. Returns the runs' summaries added up, and how the last run ended.
+    fn until_stopped(
+        &self,
+        group: &mut SameTarget<'_>,
+        sink: &mut KeepWatching,
+        reporter: &Reporter,
+    ) -> Result<(RunSummary, Result<(), vizretarget::Error>)> {
+        let mut total = RunSummary::default();
+        while let Some((from, target)) = group.start()? {
+            let plan = self.limits.plan_stream(
+                &self.args.dir,
+                from,
+                target,
+                SinkFormat::PngSeq.held_bytes_per_pixel(),
+            )?;
+            let run = Pipeline::run_planned(
+                &plan,
+                target,
+                self.options,
+                group,
+                sink,
+                reporter as &dyn Progress,
+                self.cancel,
+            );
+            match run {
+                Ok(s) => add(&mut total, &s),
+                Err(e) => return Ok((total, Err(e))),
+            }
+            if self.cancel.load(Ordering::SeqCst) || group.held.is_none() {
+                break;
+            }
+        }
+        Ok((total, Ok(())))
+    }
 }
 
 /// Adds one run's summary to the watch's.

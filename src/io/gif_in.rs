@@ -271,7 +271,13 @@ impl<R: Read + Send> FrameSource for GifSource<R> {
         }
         self.buffer = buffer;
         self.dispose = Some((dispose, rect, saved));
-        let image = Image::from_pixels(self.size, self.canvas.clone()).ok_or(Error::Aborted)?;
+        let image = Image::from_pixels(self.size, self.canvas.clone()).ok_or_else(|| {
+            Error::Internal(format!(
+                "{}: frame {index}: the canvas does not fill the {} logical screen",
+                self.name.display(),
+                self.size
+            ))
+        })?;
         let mut out = Frame::new(image, index);
         out.duration_ms = Some(delay as u32 * 10);
         self.next_index += 1;

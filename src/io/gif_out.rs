@@ -229,7 +229,11 @@ impl<W: Write + Send> GifSink<W> {
         };
         let result = match self.encoder.as_mut() {
             Some(enc) => enc.write_frame(&frame),
-            None => return Err(Error::Aborted),
+            None => {
+                return Err(Error::Internal(
+                    "a GIF frame was pending with no encoder to write it".into(),
+                ))
+            }
         };
         result.map_err(|e| self.encoding_error(e))
     }
@@ -291,42 +295,33 @@ impl<W: Write + Send> GifSink<W> {
     }
 }
 
+/// The picture being added, as the steps of [`GifSink::add_frame`] read it.
+struct Incoming<'a> {
+    px: &'a [[u8; 4]],
+    w: usize,
+    h: usize,
+    /// The first frame: written whole, with the global palette.
+    first: bool,
+}
+
 impl<W: Write + Send> GifSink<W> {
     /// Adds one picture shown for `duration_ms` (or as [`GifOptions`] says). This is what
     /// [`FrameSink::write_frame`] does with a retargeted frame; it also writes plain pictures
     /// as an animation.
     pub fn add_frame(&mut self, img: &Image, duration_ms: Option<u32>) -> Result<(), Error> {
-        let frame_index = self.frames;
         let size = img.size();
-        let (w, h) = (size.width as usize, size.height as usize);
         let first = self.size.is_none();
+        if !first && self.encoder.is_none() {
+            return Err(Error::OutOfOrder(format!(
+                "{}: a frame added to a GIF already finished",
+                self.name.display()
+            )));
+        }
         match self.size {
-            None => {
-                if w > u16::MAX as usize || h > u16::MAX as usize {
-                    return Err(Error::decode(
-                        &self.name,
-                        format!("{size} is too large for a GIF"),
-                    ));
-                }
-                let quant = Quantizer::new(non_empty(build_palette(img.pixels(), MAX_COLORS)));
-                self.palettes += 1;
-                let writer = self.writer.take().ok_or(Error::Aborted)?;
-                let mut enc = gif::Encoder::new(writer, w as u16, h as u16, &quant.gif_palette())
-                    .map_err(|e| self.encoding_error(e))?;
-                let repeat = match self.options.repeat {
-                    Repeat::Infinite => gif::Repeat::Infinite,
-                    Repeat::Times(n) => gif::Repeat::Finite(n),
-                };
-                enc.set_repeat(repeat).map_err(|e| self.encoding_error(e))?;
-                self.encoder = Some(enc);
-                self.quant = Some(quant);
-                self.size = Some(size);
-                self.prev_in = vec![[0; 4]; w * h];
-                self.shown = vec![[0; 4]; w * h];
-            }
+            None => self.start(img)?,
             Some(s) if s != size => {
                 return Err(Error::FrameSizeMismatch {
-                    frame_index,
+                    frame_index: self.frames,
                     expected: s,
                     got: size,
                 })
@@ -334,112 +329,207 @@ impl<W: Write + Send> GifSink<W> {
             Some(_) => {}
         }
         let delay_cs = self.delay_cs(duration_ms);
-        let px = img.pixels();
-
-        // What changed, and which pixels turn transparent over opaque ones.
-        let (mut changed, mut clear) = (Bbox::default(), Bbox::default());
-        if !first {
-            for y in 0..h {
-                let (a, b) = (&px[y * w..(y + 1) * w], &self.prev_in[y * w..(y + 1) * w]);
-                if a == b {
-                    continue;
-                }
-                let x0 = a.iter().zip(b).position(|(p, q)| p != q).unwrap_or(0);
-                let x1 = w
-                    - 1
-                    - a.iter()
-                        .rev()
-                        .zip(b.iter().rev())
-                        .position(|(p, q)| p != q)
-                        .unwrap_or(0);
-                changed.add_span(y, x0, x1);
-                let shown = &self.shown[y * w..(y + 1) * w];
-                for x in x0..=x1 {
-                    if a[x][3] < 128 && shown[x][3] != 0 {
-                        clear.add_span(y, x, x);
-                    }
-                }
-            }
-        }
-        let mut rect = if first {
-            Rect { x: 0, y: 0, w, h }
-        } else {
-            changed.rect()
+        let f = Incoming {
+            px: img.pixels(),
+            w: size.width as usize,
+            h: size.height as usize,
+            first,
         };
-        let clear = clear.rect();
-        if !clear.is_empty() {
-            if let Some(p) = self.pending.as_mut() {
-                p.extend(clear);
-                p.dispose = DisposalMethod::Background;
-                let r = p.rect;
-                for y in r.y..r.y + r.h {
-                    self.shown[y * w + r.x..y * w + r.x + r.w].fill([0; 4]);
-                }
-                rect = rect.union(r);
-            }
-        }
+        let rect = self.rect_to_redraw(&f);
         self.write_pending()?;
+        let pending = self.encode(&f, rect, delay_cs)?;
+        self.remember_input(&f);
+        self.pending = Some(pending);
+        self.frames += 1;
+        Ok(())
+    }
 
-        let mut local_palette = None;
-        let mut indices = Vec::new();
-        if rect.is_empty() {
-            // Nothing changed: one transparent pixel carries the delay.
-            rect = Rect {
+    /// Writes the header at the first frame: the GIF's size is that frame's, and its global
+    /// palette is built from it. A size the format cannot hold is refused before the writer
+    /// is used, so that a frame that fits can still start the file.
+    fn start(&mut self, img: &Image) -> Result<(), Error> {
+        let size = img.size();
+        let (w, h) = (size.width as usize, size.height as usize);
+        if w > u16::MAX as usize || h > u16::MAX as usize {
+            return Err(Error::Unsupported {
+                path: self.name.clone(),
+                message: format!(
+                    "{size} is too large for a GIF: its sides are at most {} px",
+                    u16::MAX
+                ),
+            });
+        }
+        let quant = Quantizer::new(non_empty(build_palette(img.pixels(), MAX_COLORS)));
+        self.palettes += 1;
+        let writer = self.writer.take().ok_or_else(|| {
+            Error::OutOfOrder(format!(
+                "{}: a frame added after writing the GIF's header failed",
+                self.name.display()
+            ))
+        })?;
+        let mut enc = gif::Encoder::new(writer, w as u16, h as u16, &quant.gif_palette())
+            .map_err(|e| self.encoding_error(e))?;
+        let repeat = match self.options.repeat {
+            Repeat::Infinite => gif::Repeat::Infinite,
+            Repeat::Times(n) => gif::Repeat::Finite(n),
+        };
+        enc.set_repeat(repeat).map_err(|e| self.encoding_error(e))?;
+        self.encoder = Some(enc);
+        self.quant = Some(quant);
+        self.size = Some(size);
+        self.prev_in = vec![[0; 4]; w * h];
+        self.shown = vec![[0; 4]; w * h];
+        Ok(())
+    }
+
+    /// The rectangle this frame redraws: the whole first frame, then the bounding box of what
+    /// changed. Pixels turning transparent over shown ones need the previous frame cleared
+    /// (disposal `Background`), which also clears its rectangle: this frame then redraws
+    /// that too.
+    fn rect_to_redraw(&mut self, f: &Incoming) -> Rect {
+        if f.first {
+            return Rect {
                 x: 0,
                 y: 0,
-                w: 1,
-                h: 1,
+                w: f.w,
+                h: f.h,
             };
-            indices.push(self.quant.as_ref().map_or(0, |q| q.transparent()));
-        } else {
-            let (residual, n) = self.map_rect(px, w, rect, first, &mut indices);
-            let mean = residual as f64 / n.max(1) as f64;
-            if !first && n * 100 >= (w * h) as u64 && mean > REBUILD_RESIDUAL {
-                self.quant = Some(Quantizer::new(non_empty(build_palette(px, MAX_COLORS))));
-                self.palettes += 1;
-                self.palette_is_global = false;
-                self.map_rect(px, w, rect, first, &mut indices);
+        }
+        let (changed, clear) = self.changes(f);
+        let mut rect = changed.rect();
+        let clear = clear.rect();
+        if !clear.is_empty() {
+            if let Some(cleared) = self.clear_pending(clear, f.w) {
+                rect = rect.union(cleared);
             }
-            let q = self.quant.as_ref().ok_or(Error::Aborted)?;
-            let t = q.transparent();
-            let colors = q.colors();
-            // Pixels already showing their colour stay transparent (the viewer keeps them).
-            for y in 0..rect.h {
-                let shown =
-                    &mut self.shown[(rect.y + y) * w + rect.x..(rect.y + y) * w + rect.x + rect.w];
-                for (i, s) in indices[y * rect.w..(y + 1) * rect.w].iter_mut().zip(shown) {
-                    if *i == t {
-                        continue;
-                    }
-                    let c = colors[*i as usize];
-                    let c = [c[0], c[1], c[2], 255];
-                    if *s == c {
-                        *i = t;
-                    } else {
-                        *s = c;
-                    }
+        }
+        rect
+    }
+
+    /// What changed since the last frame, and which of those pixels turn transparent over
+    /// shown ones. Each row is compared whole first: most rows of a chart's frame are equal.
+    fn changes(&self, f: &Incoming) -> (Bbox, Bbox) {
+        let w = f.w;
+        let (mut changed, mut clear) = (Bbox::default(), Bbox::default());
+        for y in 0..f.h {
+            let (a, b) = (&f.px[y * w..(y + 1) * w], &self.prev_in[y * w..(y + 1) * w]);
+            if a == b {
+                continue;
+            }
+            let x0 = a.iter().zip(b).position(|(p, q)| p != q).unwrap_or(0);
+            let x1 = w
+                - 1
+                - a.iter()
+                    .rev()
+                    .zip(b.iter().rev())
+                    .position(|(p, q)| p != q)
+                    .unwrap_or(0);
+            changed.add_span(y, x0, x1);
+            let shown = &self.shown[y * w..(y + 1) * w];
+            for x in x0..=x1 {
+                if a[x][3] < 128 && shown[x][3] != 0 {
+                    clear.add_span(y, x, x);
                 }
             }
-            if !self.palette_is_global {
-                local_palette = Some(q.gif_palette());
-            }
         }
-        for y in 0..h {
-            let r = y * w..(y + 1) * w;
-            if self.prev_in[r.clone()] != px[r.clone()] {
-                self.prev_in[r.clone()].copy_from_slice(&px[r]);
-            }
+        (changed, clear)
+    }
+
+    /// Makes the pending frame clear its rectangle, grown over `clear`, once shown; returns
+    /// that rectangle, which the canvas no longer shows (`None`: no frame is pending).
+    fn clear_pending(&mut self, clear: Rect, w: usize) -> Option<Rect> {
+        let p = self.pending.as_mut()?;
+        p.extend(clear);
+        p.dispose = DisposalMethod::Background;
+        let r = p.rect;
+        for y in r.y..r.y + r.h {
+            self.shown[y * w + r.x..y * w + r.x + r.w].fill([0; 4]);
         }
-        self.pending = Some(Pending {
+        Some(r)
+    }
+
+    /// The frame's indices over `rect`, held until the next frame decides its disposal. A
+    /// frame with nothing to redraw is one transparent pixel: it still carries the delay.
+    fn encode(&mut self, f: &Incoming, rect: Rect, delay_cs: u16) -> Result<Pending, Error> {
+        let transparent = |s: &Self| s.quant.as_ref().map_or(0, |q| q.transparent());
+        if rect.is_empty() {
+            return Ok(Pending {
+                rect: Rect {
+                    x: 0,
+                    y: 0,
+                    w: 1,
+                    h: 1,
+                },
+                indices: vec![transparent(self)],
+                transparent: transparent(self),
+                local_palette: None,
+                delay_cs,
+                dispose: DisposalMethod::Keep,
+            });
+        }
+        let mut indices = Vec::new();
+        let (residual, n) = self.map_rect(f.px, f.w, rect, f.first, &mut indices);
+        if palette_is_stale(f, residual, n) {
+            self.quant = Some(Quantizer::new(non_empty(build_palette(f.px, MAX_COLORS))));
+            self.palettes += 1;
+            self.palette_is_global = false;
+            self.map_rect(f.px, f.w, rect, f.first, &mut indices);
+        }
+        let q = self
+            .quant
+            .as_ref()
+            .ok_or_else(|| Error::Internal("a GIF frame after the first has no palette".into()))?;
+        keep_shown(q, &mut self.shown, f.w, rect, &mut indices);
+        let local_palette = (!self.palette_is_global).then(|| q.gif_palette());
+        Ok(Pending {
             rect,
             indices,
-            transparent: self.quant.as_ref().map_or(0, |q| q.transparent()),
+            transparent: transparent(self),
             local_palette,
             delay_cs,
             dispose: DisposalMethod::Keep,
-        });
-        self.frames += 1;
-        Ok(())
+        })
+    }
+
+    /// Keeps this frame's input to compare the next one with (rows that differ copied).
+    fn remember_input(&mut self, f: &Incoming) {
+        for y in 0..f.h {
+            let r = y * f.w..(y + 1) * f.w;
+            if self.prev_in[r.clone()] != f.px[r.clone()] {
+                self.prev_in[r.clone()].copy_from_slice(&f.px[r]);
+            }
+        }
+    }
+}
+
+/// Whether the palette fits this frame's changed pixels so badly (mean residual above
+/// [`REBUILD_RESIDUAL`] over at least 1% of the frame) that a new one is built from it. The
+/// first frame's palette is built from that frame.
+fn palette_is_stale(f: &Incoming, residual: u64, n: u64) -> bool {
+    let mean = residual as f64 / n.max(1) as f64;
+    !f.first && n * 100 >= (f.w * f.h) as u64 && mean > REBUILD_RESIDUAL
+}
+
+/// Makes transparent the indices of `rect` whose pixel already shows their colour (the viewer
+/// keeps it, and runs of the transparent index compress well), and records the others in
+/// `shown`.
+fn keep_shown(q: &Quantizer, shown: &mut [[u8; 4]], w: usize, rect: Rect, indices: &mut [u8]) {
+    let t = q.transparent();
+    let colors = q.colors();
+    for y in 0..rect.h {
+        let shown = &mut shown[(rect.y + y) * w + rect.x..(rect.y + y) * w + rect.x + rect.w];
+        for (i, s) in indices[y * rect.w..(y + 1) * rect.w].iter_mut().zip(shown) {
+            if *i == t {
+                continue;
+            }
+            let c = colors[*i as usize];
+            let c = [c[0], c[1], c[2], 255];
+            if *s == c {
+                *i = t;
+            } else {
+                *s = c;
+            }
+        }
     }
 }
 
@@ -646,6 +736,36 @@ mod tests {
                 assert_eq!(f.image.row(y), back[0].image.row(y));
             }
         }
+    }
+
+    #[test]
+    fn a_side_over_65535_px_is_a_size_a_gif_cannot_hold() {
+        // Wider than any `Size::new` allows, but a caller may build one.
+        let wide = Image::new(Size {
+            width: 65536,
+            height: 1,
+        });
+        let mut sink = GifSink::new(Vec::new(), "wide.gif", GifOptions::default());
+        let e = sink.add_frame(&wide, None).unwrap_err();
+        assert!(matches!(e, Error::Unsupported { .. }), "{e}");
+        assert_eq!(
+            e.to_string(),
+            "wide.gif: 65536x1 is too large for a GIF: its sides are at most 65535 px"
+        );
+        // Refused before anything was written: a frame that fits still makes the GIF.
+        sink.add_frame(&flat_scene(0), None).unwrap();
+        sink.finish().unwrap();
+        assert_eq!(decode(&sink.into_inner().unwrap()).0.len(), 1);
+    }
+
+    #[test]
+    fn a_frame_added_after_finish_is_refused_as_out_of_order() {
+        let mut sink = GifSink::new(Vec::new(), "mem.gif", GifOptions::default());
+        sink.add_frame(&flat_scene(0), None).unwrap();
+        sink.finish().unwrap();
+        let e = sink.add_frame(&flat_scene(1), None).unwrap_err();
+        assert!(matches!(e, Error::OutOfOrder(_)), "{e}");
+        assert!(e.to_string().contains("already finished"), "{e}");
     }
 
     #[test]

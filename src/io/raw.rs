@@ -136,7 +136,14 @@ impl<R: Read + Send> FrameSource for RawSource<R> {
                 .map(|p| [p[0], p[1], p[2], 255])
                 .collect()
         });
-        let image = Image::from_pixels(self.size, pixels).ok_or(Error::Aborted)?;
+        let image = Image::from_pixels(self.size, pixels).ok_or_else(|| {
+            Error::Internal(format!(
+                "{}: frame {}: the pixels read do not fill a {} frame",
+                self.name.display(),
+                self.next_index,
+                self.size
+            ))
+        })?;
         let frame = Frame::new(image, self.next_index);
         self.next_index += 1;
         Ok(Some(frame))

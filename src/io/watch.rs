@@ -395,120 +395,184 @@ impl WatchSource {
     /// Reads the first ready candidate, if any; returns how long to wait otherwise.
     fn try_ready(&mut self) -> Result<Result<Frame, Duration>, Error> {
         let now = Instant::now();
-        let settle = self.options.settle;
-        let quick = settle / 8;
-        let open = if REPORTS_CLOSE_WRITE {
-            settle * 10
-        } else {
-            settle
-        };
+        let quiet = QuietTimes::new(self.options.settle);
         let mut wait = POLL;
         // Ready ones in order of readiness, then of appearance.
         self.candidates.sort_by_key(|c| (c.changed_at, c.seq));
         let mut i = 0;
         while i < self.candidates.len() {
-            let c = &mut self.candidates[i];
-            let meta = match std::fs::metadata(&c.path) {
-                Ok(m) if m.is_file() => m,
-                Ok(_) => {
-                    self.candidates.remove(i);
-                    continue;
-                }
-                Err(e) => {
-                    let c = self.candidates.remove(i);
-                    if e.kind() == std::io::ErrorKind::NotFound {
-                        self.report_vanished(c.path);
-                    } else {
-                        self.warn(Error::io(&c.path, e));
-                    }
-                    continue;
-                }
+            let Some((fp, mode)) = self.look(i) else {
+                continue; // dropped: the next one is at `i` now
             };
-            let fp = fingerprint(&meta);
-            let mode = permissions(&meta);
-            if self.done.get(&c.path) == Some(&fp) || self.skipped.get(&c.path) == Some(&(fp, mode))
-            {
-                self.candidates.remove(i); // already read (or given up on) as it is now
-                continue;
-            }
-            if c.seen != Some(fp) {
-                // Changed since the last look: its quiet period starts again. (At the first
-                // look the time of the event that brought it stands.)
-                if c.seen.is_some() {
-                    c.changed_at = now;
-                }
-                c.seen = Some(fp);
-            }
-            let quiet = now.saturating_duration_since(c.changed_at);
-            let needed = match c.state {
-                Writer::Closed => quick,
-                Writer::Unknown => settle,
-                Writer::Open => open,
-            };
-            if quiet < needed || fp.len == 0 {
-                wait = wait.min(needed.saturating_sub(quiet).max(Duration::from_millis(5)));
+            if let Some(left) = self.candidates[i].settling(fp, now, &quiet) {
+                wait = wait.min(left);
                 i += 1;
                 continue;
             }
-            let path = c.path.clone();
-            match read_still_with(&path, &self.options.limits) {
-                Ok(image) => {
-                    // Unchanged while we read it?
-                    let after = std::fs::metadata(&path).map(|m| fingerprint(&m)).ok();
-                    if after != Some(fp) {
-                        let c = &mut self.candidates[i];
-                        c.seen = after;
-                        c.changed_at = Instant::now();
-                        c.state = Writer::Open;
-                        i += 1;
-                        continue;
-                    }
-                    self.candidates.remove(i);
-                    self.done.insert(path.clone(), fp);
-                    let index = self.next_index;
-                    self.next_index += 1;
-                    let name = path
-                        .file_name()
-                        .unwrap_or_default()
-                        .to_string_lossy()
-                        .into_owned();
-                    self.names.insert(index, name);
-                    return Ok(Ok(Frame::new(image, index)));
-                }
-                Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
-                    let c = self.candidates.remove(i);
-                    self.report_vanished(c.path);
-                }
-                Err(Error::Io { source, .. })
-                    if source.kind() == std::io::ErrorKind::PermissionDenied =>
-                {
-                    // Waiting does not help: skip it until it changes (a chmod will do).
-                    let c = self.candidates.remove(i);
-                    self.skipped.insert(c.path.clone(), (fp, mode));
-                    self.warn(Error::decode(
-                        &c.path,
-                        format!(
-                            "cannot be read ({source}); skipped until its permissions or \
-                             content change"
-                        ),
-                    ));
-                }
-                Err(e) => {
-                    let c = &mut self.candidates[i];
-                    c.attempts += 1;
-                    c.changed_at = Instant::now();
-                    c.state = Writer::Unknown;
-                    if c.attempts >= MAX_ATTEMPTS {
-                        let c = self.candidates.remove(i);
-                        self.skipped.insert(c.path, (fp, mode)); // until it changes
-                        self.warn(e);
-                    } else {
-                        i += 1;
-                    }
-                }
+            match self.read(i, fp, mode) {
+                Read::Frame(frame) => return Ok(Ok(frame)),
+                Read::Kept => i += 1,
+                Read::Dropped => {}
             }
         }
         Ok(Err(wait))
+    }
+
+    /// Candidate `i`'s fingerprint and permissions as it is now, or `None` when it is dropped:
+    /// gone (reported), not a file, or already read (or given up on) as it is now.
+    fn look(&mut self, i: usize) -> Option<(Fingerprint, u32)> {
+        let meta = match std::fs::metadata(&self.candidates[i].path) {
+            Ok(m) if m.is_file() => m,
+            Ok(_) => {
+                self.candidates.remove(i);
+                return None;
+            }
+            Err(e) => {
+                let c = self.candidates.remove(i);
+                if e.kind() == std::io::ErrorKind::NotFound {
+                    self.report_vanished(c.path);
+                } else {
+                    self.warn(Error::io(&c.path, e));
+                }
+                return None;
+            }
+        };
+        let fp = fingerprint(&meta);
+        let mode = permissions(&meta);
+        let path = &self.candidates[i].path;
+        if self.done.get(path) == Some(&fp) || self.skipped.get(path) == Some(&(fp, mode)) {
+            self.candidates.remove(i);
+            return None;
+        }
+        Some((fp, mode))
+    }
+
+    /// Reads candidate `i`, which looks complete. Waiting does not help a file that cannot be
+    /// read: it is skipped until it changes. One that fails to decode may still be being
+    /// written: it is tried again, up to [`MAX_ATTEMPTS`] times.
+    fn read(&mut self, i: usize, fp: Fingerprint, mode: u32) -> Read {
+        let path = self.candidates[i].path.clone();
+        match read_still_with(&path, &self.options.limits) {
+            Ok(image) => self.accept(i, fp, image),
+            Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => {
+                let c = self.candidates.remove(i);
+                self.report_vanished(c.path);
+                Read::Dropped
+            }
+            Err(Error::Io { source, .. })
+                if source.kind() == std::io::ErrorKind::PermissionDenied =>
+            {
+                // A chmod brings it back.
+                let c = self.candidates.remove(i);
+                self.skipped.insert(c.path.clone(), (fp, mode));
+                self.warn(Error::decode(
+                    &c.path,
+                    format!(
+                        "cannot be read ({source}); skipped until its permissions or \
+                         content change"
+                    ),
+                ));
+                Read::Dropped
+            }
+            Err(e) => {
+                let c = &mut self.candidates[i];
+                c.attempts += 1;
+                c.changed_at = Instant::now();
+                c.state = Writer::Unknown;
+                if c.attempts < MAX_ATTEMPTS {
+                    return Read::Kept;
+                }
+                let c = self.candidates.remove(i);
+                self.skipped.insert(c.path, (fp, mode)); // until it changes
+                self.warn(e);
+                Read::Dropped
+            }
+        }
+    }
+
+    /// Candidate `i`'s snapshot, decoded as `image`, becomes the next frame if the file did
+    /// not change while it was read; if it did, a writer is at it again and it waits.
+    fn accept(&mut self, i: usize, fp: Fingerprint, image: crate::image::Image) -> Read {
+        let path = self.candidates[i].path.clone();
+        let after = std::fs::metadata(&path).map(|m| fingerprint(&m)).ok();
+        if after != Some(fp) {
+            let c = &mut self.candidates[i];
+            c.seen = after;
+            c.changed_at = Instant::now();
+            c.state = Writer::Open;
+            return Read::Kept;
+        }
+        self.candidates.remove(i);
+        self.done.insert(path.clone(), fp);
+        let index = self.next_index;
+        self.next_index += 1;
+        let name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        self.names.insert(index, name);
+        Read::Frame(Frame::new(image, index))
+    }
+}
+
+/// What became of a candidate that was read.
+enum Read {
+    Frame(Frame),
+    /// Still a candidate: looked at again later.
+    Kept,
+    /// No longer a candidate.
+    Dropped,
+}
+
+/// How long a file must go unchanged before it is read, by what is known of its writer.
+struct QuietTimes {
+    /// Closed after writing, or renamed in: complete, so an eighth of the settle time.
+    closed: Duration,
+    /// Nothing known: the settle time.
+    unknown: Duration,
+    /// Written to and not closed: where close-write is reported, a writer that pauses for
+    /// 10 settle times without closing is taken as done; elsewhere no close is ever seen.
+    open: Duration,
+}
+
+impl QuietTimes {
+    fn new(settle: Duration) -> QuietTimes {
+        QuietTimes {
+            closed: settle / 8,
+            unknown: settle,
+            open: if REPORTS_CLOSE_WRITE {
+                settle * 10
+            } else {
+                settle
+            },
+        }
+    }
+}
+
+impl Candidate {
+    /// How long this file must still go unchanged before it is read (`None`: ready), its
+    /// fingerprint now `fp`. A change since the last look starts its quiet time again (at the
+    /// first look the time of the event that brought it stands). An empty file is never
+    /// ready: its writer has created it and not written it yet.
+    fn settling(&mut self, fp: Fingerprint, now: Instant, quiet: &QuietTimes) -> Option<Duration> {
+        if self.seen != Some(fp) {
+            if self.seen.is_some() {
+                self.changed_at = now;
+            }
+            self.seen = Some(fp);
+        }
+        let quiet_for = now.saturating_duration_since(self.changed_at);
+        let needed = match self.state {
+            Writer::Closed => quiet.closed,
+            Writer::Unknown => quiet.unknown,
+            Writer::Open => quiet.open,
+        };
+        (quiet_for < needed || fp.len == 0).then(|| {
+            needed
+                .saturating_sub(quiet_for)
+                .max(Duration::from_millis(5))
+        })
     }
 }
 

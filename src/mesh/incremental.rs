@@ -91,73 +91,140 @@ impl IncrementalMesh {
         let sk = structure
             .filter(|s| !s.is_empty())
             .map(|s| skeleton(s, size, options.budget_alpha() as f64));
-        let mut marks = find_marks(vsm);
         let given = GivenRings::new(given, size, options.budget_alpha());
-        if !given.marks.is_empty() {
-            marks.retain(|m| !given.near(m.center, m.ring_radius, 1.0));
-        }
-        if let Some(sk) = &sk {
-            marks.retain(|m| {
-                !sk.structure.text.iter().any(|b| {
-                    m.center.x > b.x0 as f64
-                        && m.center.x < b.x1 as f64
-                        && m.center.y > b.y0 as f64
-                        && m.center.y < b.y1 as f64
-                })
-            });
-        }
+        let mut marks = found_marks(vsm, &given, sk.as_ref());
         let points = sample_key_points(vsm, options.budget_alpha(), &marks);
-        let mut next_id = first_id;
-        let mut input: Vec<KeyVertex> = Vec::new();
-        let mut seen: HashMap<(u64, u64), usize> = HashMap::new();
-        let mut push = |p: DVec2, input: &mut Vec<KeyVertex>| -> Option<usize> {
-            if !p.x.is_finite() || !p.y.is_finite() {
-                return None;
-            }
-            let v = key(p, size, next_id);
-            let k = (v.pos.x.to_bits(), v.pos.y.to_bits());
-            if let Some(&i) = seen.get(&k) {
-                return Some(i);
-            }
-            next_id += 1;
-            input.push(v);
-            seen.insert(k, input.len() - 1);
-            Some(input.len() - 1)
-        };
+        let mut keys = KeyInput::new(size, first_id);
         for c in corners(size) {
-            push(c, &mut input);
+            keys.push(c);
         }
-        let mut edges = Vec::new();
-        let mut roles = HashMap::new();
-        if let Some(sk) = &sk {
-            let idx: Vec<Option<usize>> = sk
-                .points
-                .iter()
-                .map(|(p, _)| push(*p, &mut input))
-                .collect();
-            for (i, (_, role)) in idx.iter().zip(&sk.points) {
-                if let Some(i) = i {
-                    let v = input[*i].pos;
-                    roles.insert((v.x.to_bits(), v.y.to_bits()), *role);
-                }
-            }
-            for [a, b] in &sk.edges {
-                if let (Some(a), Some(b)) = (idx[*a], idx[*b]) {
-                    if a != b {
-                        edges.push([a, b]);
-                    }
-                }
-            }
-        }
+        let SkeletonVertices { edges, roles } = match &sk {
+            Some(sk) => keys.push_skeleton(sk),
+            None => SkeletonVertices::default(),
+        };
         for &p in extra {
             if p.x >= 0.0 && p.y >= 0.0 && p.x <= size.width as f64 && p.y <= size.height as f64 {
-                push(p, &mut input);
+                keys.push(p);
             }
         }
         for p in given.key_points(size) {
-            push(p, &mut input);
+            keys.push(p);
         }
-        for k in &points {
+        keys.push_sampled(&points, &given, sk.as_ref());
+        let tri = ConstrainedDelaunayTriangulation::try_bulk_load_cdt(keys.input, edges, |_| {})
+            .unwrap_or_default();
+        marks.extend_from_slice(&given.marks);
+        let inc = IncrementalMesh {
+            tri,
+            size,
+            marks,
+            next_id: keys.next_id,
+            structure: sk.map(|sk| Arc::new(sk.structure)),
+            roles,
+        };
+        let mesh = inc.to_mesh();
+        (inc, mesh)
+    }
+}
+
+/// The small marks found in `vsm` that get rings: not one whose ring overlaps a given mark's
+/// (it is the given mark, seen in the map), nor one inside a text block of the skeleton
+/// (text is meshed as blocks, never as marks).
+fn found_marks(vsm: &Vsm, given: &GivenRings, sk: Option<&super::skeleton::Skeleton>) -> Vec<Mark> {
+    let mut marks = find_marks(vsm);
+    if !given.marks.is_empty() {
+        marks.retain(|m| !given.near(m.center, m.ring_radius, 1.0));
+    }
+    if let Some(sk) = sk {
+        marks.retain(|m| {
+            !sk.structure.text.iter().any(|b| {
+                m.center.x > b.x0 as f64
+                    && m.center.x < b.x1 as f64
+                    && m.center.y > b.y0 as f64
+                    && m.center.y < b.y1 as f64
+            })
+        });
+    }
+    marks
+}
+
+/// The vertices of a mesh being built. Each position (clamped and snapped) is one vertex: a
+/// point given twice (a skeleton point that is also a mark's centre) gets the index it has,
+/// so that constraint edges name it; ids follow from the first one in the order vertices are
+/// added.
+struct KeyInput {
+    size: Size,
+    next_id: u64,
+    input: Vec<KeyVertex>,
+    seen: HashMap<(u64, u64), usize>,
+}
+
+/// The skeleton as vertices of the mesh being built.
+#[derive(Default)]
+struct SkeletonVertices {
+    /// Its constraint edges between vertices (an edge whose ends became one vertex dropped).
+    edges: Vec<[usize; 2]>,
+    /// Each of its points' role, by the vertex's position.
+    roles: HashMap<(u64, u64), Role>,
+}
+
+impl KeyInput {
+    fn new(size: Size, first_id: u64) -> KeyInput {
+        KeyInput {
+            size,
+            next_id: first_id,
+            input: Vec::new(),
+            seen: HashMap::new(),
+        }
+    }
+
+    /// The index of the vertex at `p`, added if new; `None` for a point not finite.
+    fn push(&mut self, p: DVec2) -> Option<usize> {
+        if !p.x.is_finite() || !p.y.is_finite() {
+            return None;
+        }
+        let v = key(p, self.size, self.next_id);
+        let k = (v.pos.x.to_bits(), v.pos.y.to_bits());
+        if let Some(&i) = self.seen.get(&k) {
+            return Some(i);
+        }
+        self.next_id += 1;
+        self.input.push(v);
+        self.seen.insert(k, self.input.len() - 1);
+        Some(self.input.len() - 1)
+    }
+
+    /// Adds the skeleton's points.
+    fn push_skeleton(&mut self, sk: &super::skeleton::Skeleton) -> SkeletonVertices {
+        let idx: Vec<Option<usize>> = sk.points.iter().map(|(p, _)| self.push(*p)).collect();
+        let mut roles = HashMap::new();
+        for (i, (_, role)) in idx.iter().zip(&sk.points) {
+            if let Some(i) = i {
+                let v = self.input[*i].pos;
+                roles.insert((v.x.to_bits(), v.y.to_bits()), *role);
+            }
+        }
+        let mut edges = Vec::new();
+        for [a, b] in &sk.edges {
+            if let (Some(a), Some(b)) = (idx[*a], idx[*b]) {
+                if a != b {
+                    edges.push([a, b]);
+                }
+            }
+        }
+        SkeletonVertices { edges, roles }
+    }
+
+    /// Adds the sampled key points but the corners (already in), lattice points within a
+    /// given mark's exclusion disc (its ring stands for them), and points that would crowd
+    /// the skeleton.
+    fn push_sampled(
+        &mut self,
+        points: &[super::sampling::KeyPoint],
+        given: &GivenRings,
+        sk: Option<&super::skeleton::Skeleton>,
+    ) {
+        for k in points {
             if k.kind == KeyPointKind::Corner {
                 continue;
             }
@@ -165,28 +232,17 @@ impl IncrementalMesh {
             {
                 continue;
             }
-            if let Some(sk) = &sk {
+            if let Some(sk) = sk {
                 if crowds(&sk.structure, k.pos) {
                     continue;
                 }
             }
-            push(k.pos, &mut input);
+            self.push(k.pos);
         }
-        let tri = ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges, |_| {})
-            .unwrap_or_default();
-        marks.extend_from_slice(&given.marks);
-        let inc = IncrementalMesh {
-            tri,
-            size,
-            marks,
-            next_id,
-            structure: sk.map(|sk| Arc::new(sk.structure)),
-            roles,
-        };
-        let mesh = inc.to_mesh();
-        (inc, mesh)
     }
+}
 
+impl IncrementalMesh {
     /// The mesh of a canvas taken whole as one data area ([`Structure::whole_canvas`]): its
     /// two triangles. There the warp is the canvas's one linear map, which the corners alone
     /// carry, and the canvas is resampled as a plain resize: key points would shape nothing

@@ -58,7 +58,7 @@ impl Retargeter {
     /// Processes a frame; its result is then available from [`Retargeter::receive_frame`].
     pub fn send_frame(&mut self, frame: Frame) -> Result<(), Error> {
         if self.flushed {
-            return Err(Error::InvalidOptions("send_frame after flush".into()));
+            return Err(Error::OutOfOrder("send_frame after flush".into()));
         }
         let out = self.stages.run(frame)?;
         self.ready.push_back(out);
@@ -87,4 +87,26 @@ pub fn retarget(image: &Image, target: Size, options: &Options) -> Result<Retarg
     r.flush();
     r.receive_frame()
         .map_err(|_| Error::Internal("a still sent and flushed gave no frame".into()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_sent_after_flush_is_refused_as_out_of_order_and_the_queue_drains() {
+        let size = Size::new(40, 20).unwrap();
+        let mut r = Retargeter::new(Size::new(20, 20).unwrap(), Options::default()).unwrap();
+        assert_eq!(r.receive_frame().err(), Some(Status::NeedMoreData));
+        r.send_frame(Frame::new(Image::filled(size, [255; 4]), 0))
+            .unwrap();
+        r.flush();
+        let e = r
+            .send_frame(Frame::new(Image::filled(size, [255; 4]), 1))
+            .unwrap_err();
+        assert!(matches!(e, Error::OutOfOrder(_)), "{e}");
+        assert!(e.to_string().contains("after flush"), "{e}");
+        assert_eq!(r.receive_frame().map(|f| f.frame_index), Ok(0));
+        assert_eq!(r.receive_frame().err(), Some(Status::Done));
+    }
 }
