@@ -64,15 +64,10 @@ fn main() {
         let mut sink = CountSink(0);
         let cancel = AtomicBool::new(false);
         let t0 = Instant::now();
-        let s = Pipeline::run(
-            target,
-            &options,
-            &mut source,
-            &mut sink,
-            &NoProgress,
-            &cancel,
-        )
-        .unwrap();
+        let s = Pipeline::new(target, &options)
+            .unwrap()
+            .run(&mut source, &mut sink, &NoProgress, &cancel)
+            .unwrap();
         let secs = t0.elapsed().as_secs_f64();
         let per = |v: f64| v / s.frames as f64;
         eprintln!(

@@ -290,15 +290,10 @@ fn threaded_pipeline_gives_the_sequential_frames() {
     );
     let mut sink = VecSink::default();
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let summary = Pipeline::run(
-        target,
-        &options,
-        &mut source,
-        &mut sink,
-        &NoProgress,
-        &cancel,
-    )
-    .unwrap();
+    let summary = Pipeline::new(target, &options)
+        .unwrap()
+        .run(&mut source, &mut sink, &NoProgress, &cancel)
+        .unwrap();
     assert_eq!(summary.frames, 16);
     assert!(sink.finished);
     assert_eq!(sink.frames.len(), seq.len());
@@ -368,15 +363,10 @@ fn a_closed_output_ends_the_run_successfully() {
         finished: false,
     };
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let s = Pipeline::run(
-        Size::new(60, 80).unwrap(),
-        &Options::default(),
-        &mut source,
-        &mut sink,
-        &NoProgress,
-        &cancel,
-    )
-    .unwrap();
+    let s = Pipeline::new(Size::new(60, 80).unwrap(), &Options::default())
+        .unwrap()
+        .run(&mut source, &mut sink, &NoProgress, &cancel)
+        .unwrap();
     assert!(s.output_closed);
     assert_eq!(s.frames, 5);
     assert!(sink.finished);
@@ -392,15 +382,10 @@ fn a_failing_source_reports_its_error_after_the_good_frames() {
     };
     let mut sink = VecSink::default();
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let err = Pipeline::run(
-        Size::new(60, 80).unwrap(),
-        &Options::default(),
-        &mut source,
-        &mut sink,
-        &NoProgress,
-        &cancel,
-    )
-    .unwrap_err();
+    let err = Pipeline::new(Size::new(60, 80).unwrap(), &Options::default())
+        .unwrap()
+        .run(&mut source, &mut sink, &NoProgress, &cancel)
+        .unwrap_err();
     assert!(
         matches!(
             err,
@@ -418,15 +403,10 @@ fn cancel_stops_reading_and_finishes_the_output() {
     let mut source = VecSource::new((0..20).map(|i| Frame::new(scene(size, i, 1), i as u64)));
     let mut sink = VecSink::default();
     let cancel = std::sync::atomic::AtomicBool::new(true);
-    let s = Pipeline::run(
-        Size::new(60, 80).unwrap(),
-        &Options::default(),
-        &mut source,
-        &mut sink,
-        &NoProgress,
-        &cancel,
-    )
-    .unwrap();
+    let s = Pipeline::new(Size::new(60, 80).unwrap(), &Options::default())
+        .unwrap()
+        .run(&mut source, &mut sink, &NoProgress, &cancel)
+        .unwrap();
     assert!(s.cancelled);
     assert!(sink.finished);
     assert!(sink.frames.len() < 20);
@@ -486,15 +466,10 @@ fn cancel_during_a_blocked_read_ends_the_run_with_every_frame_read() {
         cancel: cancel.clone(),
     };
     let mut sink = VecSink::default();
-    let s = Pipeline::run(
-        Size::new(60, 80).unwrap(),
-        &Options::default(),
-        &mut source,
-        &mut sink,
-        &progress,
-        &cancel,
-    )
-    .unwrap();
+    let s = Pipeline::new(Size::new(60, 80).unwrap(), &Options::default())
+        .unwrap()
+        .run(&mut source, &mut sink, &progress, &cancel)
+        .unwrap();
     release.store(true, std::sync::atomic::Ordering::SeqCst); // the abandoned read may end
     assert!(s.cancelled, "recorded as cancelled, not as the input's end");
     assert_eq!(s.frames, 4);

@@ -564,15 +564,15 @@ fn a_stream_enhances_every_frame() {
     let plain = retarget(&bg, size, &Options::default().with_marks(layer.clone())).unwrap();
     let options = region_stream_options(None);
     let mut sink = VecSink::default();
-    Pipeline::run(
-        size,
-        &options,
-        &mut VecSource::new(frames.clone()),
-        &mut sink,
-        &NoProgress,
-        &Default::default(),
-    )
-    .unwrap();
+    Pipeline::new(size, &options)
+        .unwrap()
+        .run(
+            &mut VecSource::new(frames.clone()),
+            &mut sink,
+            &NoProgress,
+            &Default::default(),
+        )
+        .unwrap();
     assert_eq!(sink.frames.len(), 3);
     let mut seq = Retargeter::new(size, options).unwrap();
     let plain_marks = plain.marks.as_ref().unwrap();

@@ -45,15 +45,14 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
     };
     let mut sink = open_sink(output, format, sink_options)?;
     let reporter = reporter(cli, &input);
-    let result = Pipeline::run_planned(
-        &plan,
-        target,
-        &options,
-        &mut *input.source,
-        &mut *sink,
-        &reporter as &dyn Progress,
-        &cancel,
-    );
+    let result = Pipeline::new(target, &options).and_then(|p| {
+        p.with_plan(plan).run(
+            &mut *input.source,
+            &mut *sink,
+            &reporter as &dyn Progress,
+            &cancel,
+        )
+    });
     reporter.finish();
     if let Some(path) = &args.stats_json {
         reporter

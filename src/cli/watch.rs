@@ -142,15 +142,10 @@ impl Runs<'_> {
                 target,
                 SinkFormat::PngSeq.held_bytes_per_pixel(),
             )?;
-            let run = Pipeline::run_planned(
-                &plan,
-                target,
-                self.options,
-                group,
-                sink,
-                reporter as &dyn Progress,
-                self.cancel,
-            );
+            let run = Pipeline::new(target, self.options).and_then(|p| {
+                p.with_plan(plan)
+                    .run(group, sink, reporter as &dyn Progress, self.cancel)
+            });
             match run {
                 Ok(s) => add(&mut total, &s),
                 Err(e) => return Ok((total, Err(e))),

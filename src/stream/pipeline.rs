@@ -49,8 +49,31 @@ impl RunSummary {
     }
 }
 
-/// Runs a source through the stages into a sink.
-pub struct Pipeline;
+/// Runs a source through the stages into a sink, each stage on a thread of its own: a target,
+/// checked options, and a memory plan.
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use vizretarget::stream::{NoProgress, VecSink, VecSource};
+/// use vizretarget::{Frame, Image, Options, Pipeline, Size};
+/// let page = Image::filled(Size::new(80, 40)?, [255; 4]);
+/// let frames = (0..3).map(|i| Frame::new(page.clone(), i));
+/// let mut sink = VecSink::default();
+/// let summary = Pipeline::new(Size::new(40, 40)?, &Options::default())?.run(
+///     &mut VecSource::new(frames),
+///     &mut sink,
+///     &NoProgress,
+///     &AtomicBool::new(false),
+/// )?;
+/// assert_eq!(summary.frames, 3);
+/// assert_eq!(sink.frames[2].image.size(), Size::new(40, 40)?);
+/// # Ok::<(), vizretarget::Error>(())
+/// ```
+pub struct Pipeline {
+    target: Size,
+    options: Options,
+    plan: MemoryPlan,
+}
 
 /// A stage loop: `f` on every message until the input closes or the output is gone.
 fn stage<I, O>(
@@ -87,37 +110,38 @@ fn spawn_stage<'scope, 'env, I: Send + 'scope, O: Send + 'scope>(
 }
 
 impl Pipeline {
-    /// Retargets every frame of `source` to `target` into `sink`, in order, each stage on its
-    /// own thread. Stops early, successfully, when the sink reports [`Error::OutputClosed`]
-    /// or `cancel` is set (frames already read are finished and written first, and the sink
-    /// is always finished).
-    pub fn run(
-        target: Size,
-        options: &Options,
-        source: &mut dyn FrameSource,
-        sink: &mut dyn FrameSink,
-        progress: &dyn Progress,
-        cancel: &AtomicBool,
-    ) -> Result<RunSummary, Error> {
-        let plan = MemoryPlan::unbounded(target, target);
-        Pipeline::run_planned(&plan, target, options, source, sink, progress, cancel)
+    /// A pipeline to `target` (checked: each side 1 to [`crate::MAX_SIDE`]) with `options`
+    /// (checked), one frame waiting between stages ([`MemoryPlan::unbounded`]).
+    pub fn new(target: Size, options: &Options) -> Result<Pipeline, Error> {
+        Size::new(target.width, target.height)?;
+        options.validate()?;
+        Ok(Pipeline {
+            target,
+            options: options.clone(),
+            plan: MemoryPlan::unbounded(target, target),
+        })
     }
 
-    /// [`Pipeline::run`] within a memory plan: its channel capacity, and every frame admitted
-    /// by [`MemoryPlan::admit`] as it is read (a larger frame that would not fit ends the run
+    /// Runs within a memory plan: its channel capacity, and every frame admitted by
+    /// [`MemoryPlan::admit`] as it is read (a larger frame that would not fit ends the run
     /// with [`Error::LimitExceeded`], after the frames before it).
-    pub fn run_planned(
-        plan: &MemoryPlan,
-        target: Size,
-        options: &Options,
+    pub fn with_plan(mut self, plan: MemoryPlan) -> Pipeline {
+        self.plan = plan;
+        self
+    }
+
+    /// Retargets every frame of `source` into `sink`, in order. Stops early, successfully,
+    /// when the sink reports [`Error::OutputClosed`] or `cancel` is set (frames already read
+    /// are finished and written first, and the sink is always finished).
+    pub fn run(
+        &self,
         source: &mut dyn FrameSource,
         sink: &mut dyn FrameSink,
         progress: &dyn Progress,
         cancel: &AtomicBool,
     ) -> Result<RunSummary, Error> {
-        Size::new(target.width, target.height)?;
+        let (target, options, plan) = (self.target, &self.options, &self.plan);
         let capacity = plan.channel_capacity;
-        options.validate()?;
         let start = Instant::now();
         let stop = AtomicBool::new(false);
         let mut summary = RunSummary::default();
@@ -135,36 +159,10 @@ impl Pipeline {
             handles.push(
                 std::thread::Builder::new()
                     .name("ingest".into())
-                    .spawn_scoped(s, move || -> Result<(), Error> {
-                        loop {
-                            if stop.load(Ordering::Relaxed) {
-                                return Ok(());
-                            }
-                            if cancel.load(Ordering::Relaxed) {
-                                cancelled.store(true, Ordering::Relaxed);
-                                return Ok(());
-                            }
-                            let frame = match source.next_frame() {
-                                Ok(Some(f)) => f,
-                                Ok(None) => {
-                                    // A source that gives up waiting when cancelled
-                                    // (DetachedSource, a watched folder) ends this way.
-                                    if cancel.load(Ordering::Relaxed) {
-                                        cancelled.store(true, Ordering::Relaxed);
-                                    }
-                                    return Ok(());
-                                }
-                                Err(e) => {
-                                    return Err(e);
-                                }
-                            };
-                            plan.admit(frame.frame_index, frame.image.size())?;
-                            if tx0.send(frame).is_err() {
-                                return Ok(());
-                            }
-                        }
+                    .spawn_scoped(s, move || {
+                        ingest(source, plan, &tx0, stop, cancel, cancelled)
                     })
-                    .expect("spawn ingest"),
+                    .unwrap_or_else(|e| panic!("spawn the ingest stage: {e}")),
             );
             let Stages {
                 saliency: mut vsm_stage,
@@ -196,49 +194,9 @@ impl Pipeline {
             ));
 
             // The sink runs here, on the caller's thread (the sink need not be Send).
-            let mut sink_result: Result<(), Error> = Ok(());
-            for out in rx4 {
-                match sink.write_frame(&out) {
-                    Ok(()) => {}
-                    Err(Error::OutputClosed) => {
-                        summary.output_closed = true;
-                        stop.store(true, Ordering::Relaxed);
-                        break;
-                    }
-                    Err(e) => {
-                        sink_result = Err(e);
-                        stop.store(true, Ordering::Relaxed);
-                        break;
-                    }
-                }
-                summary.frames += 1;
-                match out.stats.decision {
-                    Decision::Reuse => summary.reused += 1,
-                    Decision::Update => summary.updated += 1,
-                    Decision::Rebuild => summary.rebuilt += 1,
-                }
-                let t = &out.stats.times;
-                summary.stage_ms.vsm_ms += t.vsm_ms;
-                summary.stage_ms.mesh_ms += t.mesh_ms;
-                summary.stage_ms.solve_ms += t.solve_ms;
-                summary.stage_ms.render_ms += t.render_ms;
-                progress.frame_done(&out.stats);
-            }
+            let sink_result = drain(rx4, sink, progress, stop, &mut summary);
             // Leaving the loop drops the receiver: upstream stages see a closed channel.
-            let mut results: Vec<Result<(), Error>> = handles
-                .into_iter()
-                .map(|h| {
-                    let name = h.thread().name().unwrap_or("stage").to_string();
-                    h.join().unwrap_or_else(|panic| {
-                        let msg = panic
-                            .downcast_ref::<&str>()
-                            .map(|s| s.to_string())
-                            .or_else(|| panic.downcast_ref::<String>().cloned())
-                            .unwrap_or_default();
-                        Err(Error::Internal(format!("the {name} stage panicked: {msg}")))
-                    })
-                })
-                .collect();
+            let mut results: Vec<Result<(), Error>> = handles.into_iter().map(join).collect();
             summary.cancelled = cancelled.load(Ordering::Relaxed);
             results.push(sink_result);
             results
@@ -255,4 +213,90 @@ impl Pipeline {
         summary.elapsed = start.elapsed();
         Ok(summary)
     }
+}
+
+/// The ingest stage: reads frames from `source`, admits each to the memory plan, and hands
+/// them on until the source ends, a stage stops, or the run is cancelled (`cancelled` then
+/// records that the input did not end).
+fn ingest(
+    source: &mut dyn FrameSource,
+    plan: &MemoryPlan,
+    tx: &Sender<Frame>,
+    stop: &AtomicBool,
+    cancel: &AtomicBool,
+    cancelled: &AtomicBool,
+) -> Result<(), Error> {
+    loop {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        if cancel.load(Ordering::Relaxed) {
+            cancelled.store(true, Ordering::Relaxed);
+            return Ok(());
+        }
+        let Some(frame) = source.next_frame()? else {
+            // A source that gives up waiting when cancelled (DetachedSource, a watched
+            // folder) ends this way.
+            if cancel.load(Ordering::Relaxed) {
+                cancelled.store(true, Ordering::Relaxed);
+            }
+            return Ok(());
+        };
+        plan.admit(frame.frame_index, frame.image.size())?;
+        if tx.send(frame).is_err() {
+            return Ok(());
+        }
+    }
+}
+
+/// The sink stage: writes every retargeted frame, in order, counting it into `summary`. A
+/// closed output ends it successfully; any other sink error ends it with that error. Either
+/// way it raises `stop` for the stages upstream.
+fn drain(
+    rx: Receiver<Retargeted>,
+    sink: &mut dyn FrameSink,
+    progress: &dyn Progress,
+    stop: &AtomicBool,
+    summary: &mut RunSummary,
+) -> Result<(), Error> {
+    for out in rx {
+        match sink.write_frame(&out) {
+            Ok(()) => {}
+            Err(Error::OutputClosed) => {
+                summary.output_closed = true;
+                stop.store(true, Ordering::Relaxed);
+                break;
+            }
+            Err(e) => {
+                stop.store(true, Ordering::Relaxed);
+                return Err(e);
+            }
+        }
+        summary.frames += 1;
+        match out.stats.decision {
+            Decision::Reuse => summary.reused += 1,
+            Decision::Update => summary.updated += 1,
+            Decision::Rebuild => summary.rebuilt += 1,
+        }
+        let t = &out.stats.times;
+        summary.stage_ms.vsm_ms += t.vsm_ms;
+        summary.stage_ms.mesh_ms += t.mesh_ms;
+        summary.stage_ms.solve_ms += t.solve_ms;
+        summary.stage_ms.render_ms += t.render_ms;
+        progress.frame_done(&out.stats);
+    }
+    Ok(())
+}
+
+/// A stage thread's result, a panic in it turned into [`Error::Internal`] naming the stage.
+fn join(h: std::thread::ScopedJoinHandle<'_, Result<(), Error>>) -> Result<(), Error> {
+    let name = h.thread().name().unwrap_or("stage").to_string();
+    h.join().unwrap_or_else(|panic| {
+        let msg = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(Error::Internal(format!("the {name} stage panicked: {msg}")))
+    })
 }
