@@ -2,9 +2,18 @@
 //! against the paper: the VSM (Fig. 2f), its saliency levels (Fig. 6) and the mesh over the
 //! image before and after the warp (Fig. 11).
 
+use crate::baseline::{Mapping, MethodOutput};
+use crate::error::Error;
 use crate::image::{Image, Size};
+use crate::io::{write_atomic, write_still, OutputFormat};
+use crate::mesh::Mesh;
+use crate::render::area_text_placements;
+use crate::retarget::Retargeted;
 use crate::saliency::{SaliencyLevel, Vsm};
+use crate::solve::Warp;
+use crate::structure::{Line, Structure};
 use glam::DVec2;
+use std::path::Path;
 
 /// The VSM as a grey-scale image (white = 1), at the image's size.
 pub fn vsm_image(vsm: &Vsm) -> Image {
@@ -169,4 +178,135 @@ pub fn structure_overlay(base: &Image, s: &crate::structure::Structure) -> Image
         }
     }
     img
+}
+
+/// Writes the pictures of a frame's stages into `dir` (created if missing): the VSM
+/// (`vsm.png`), its levels (`levels.png`), the lines and text found (`structure.png`, and as
+/// JSON in `structure.json` with where the warp put each text block under `"text_out"`), and
+/// the mesh over the input and over the output (`mesh-before.png`, `mesh-after.png`). Needs
+/// the frame's analysis ([`crate::Options::keep_analysis`]).
+pub fn write(dir: &Path, input: &Image, out: &Retargeted) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let a = out.analysis.as_ref().ok_or_else(|| {
+        Error::InvalidOptions(
+            "debug pictures need the analysis kept (Options::keep_analysis)".into(),
+        )
+    })?;
+    let structure = a.mesh.structure().cloned().unwrap_or_default();
+    let pictures = [
+        ("vsm.png", vsm_image(&a.vsm)),
+        ("structure.png", structure_overlay(input, &structure)),
+        ("levels.png", levels_image(&a.vsm)),
+        (
+            "mesh-before.png",
+            mesh_overlay(input, a.mesh.vertices(), a.mesh.triangles()),
+        ),
+        (
+            "mesh-after.png",
+            mesh_overlay(&out.image, a.warp.positions(), a.mesh.triangles()),
+        ),
+    ];
+    for (name, img) in pictures {
+        write_still(&img, &dir.join(name), OutputFormat::Png)?;
+    }
+    let path = dir.join("structure.json");
+    let mut json = structure_json(&structure);
+    json["text_out"] = text_out_json(input, &a.mesh, &a.warp);
+    write_atomic(&path, json.to_string().as_bytes())
+}
+
+/// The detected structure as JSON: lines as `[pos, from, to, width]`, text blocks as
+/// `[x0, y0, x1, y1, line_height]`, in input pixels.
+fn structure_json(s: &Structure) -> serde_json::Value {
+    let lines = |v: &[Line]| -> Vec<serde_json::Value> {
+        v.iter()
+            .map(|l| serde_json::json!([l.pos, l.from, l.to, l.width]))
+            .collect()
+    };
+    serde_json::json!({
+        "horizontal": lines(&s.horizontal),
+        "vertical": lines(&s.vertical),
+        "text": s.text.iter().map(|b| serde_json::json!([b.x0, b.y0, b.x1, b.y1, b.line_height])).collect::<Vec<_>>(),
+        "areas": s.areas.iter().map(|a| serde_json::json!([a.x0, a.y0, a.x1, a.y1, format!("{:?}", a.kind)])).collect::<Vec<_>>(),
+    })
+}
+
+/// Where the warp put each text block: `[x0, y0, x1, y1, scale]` in output pixels, the box of
+/// its vertices and its width's scale (a block keeps one scale), or null for a block without
+/// vertices of its own. A block inside a data area is drawn over the area's map at its own
+/// scale, centred where the map takes its centre.
+fn text_out_json(input: &Image, mesh: &Mesh, warp: &Warp) -> serde_json::Value {
+    let out = warp.positions();
+    let maps = warp.area_maps(mesh);
+    let placed = mesh.structure().map_or(Vec::new(), |s| {
+        area_text_placements(input, s, &maps, warp.target())
+    });
+    let floated = |k: usize| -> Option<serde_json::Value> {
+        let p = (*placed.get(k)?)?;
+        let b = mesh.structure()?.text.get(k)?;
+        let (hw, hh) = (
+            p.scale * (b.x1 - b.x0) as f64 / 2.0,
+            p.scale * (b.y1 - b.y0) as f64 / 2.0,
+        );
+        let (cx, cy) = (p.centre.x, p.centre.y);
+        Some(serde_json::json!([
+            cx - hw,
+            cy - hh,
+            cx + hw,
+            cy + hh,
+            p.scale
+        ]))
+    };
+    let n = mesh.structure().map_or(0, |s| s.text.len());
+    let mut boxes = vec![None::<[f64; 6]>; n];
+    for (i, r) in mesh.roles().iter().enumerate() {
+        let Some(k) = r.block else { continue };
+        let (p, q) = (mesh.vertices()[i], out[i]);
+        let b = boxes[k as usize].get_or_insert([q.x, q.y, q.x, q.y, p.x, p.x]);
+        *b = [
+            b[0].min(q.x),
+            b[1].min(q.y),
+            b[2].max(q.x),
+            b[3].max(q.y),
+            b[4].min(p.x),
+            b[5].max(p.x),
+        ];
+    }
+    boxes
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            floated(k).unwrap_or_else(|| match b {
+                Some(b) if b[5] > b[4] => {
+                    serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
+                }
+                _ => serde_json::Value::Null,
+            })
+        })
+        .collect()
+}
+
+/// Writes into `dir` what another method has of [`write`]'s pictures: the saliency map and its levels
+/// (all but linear), the mesh before and after (grid).
+pub fn write_method(dir: &Path, input: &Image, out: &MethodOutput) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let mut pictures = Vec::new();
+    if let Some(vsm) = &out.vsm {
+        pictures.push(("vsm.png", vsm_image(vsm)));
+        pictures.push(("levels.png", levels_image(vsm)));
+    }
+    if let Mapping::Warp { mesh, warp } = &out.mapping {
+        pictures.push((
+            "mesh-before.png",
+            mesh_overlay(input, mesh.vertices(), mesh.triangles()),
+        ));
+        pictures.push((
+            "mesh-after.png",
+            mesh_overlay(&out.image, warp.positions(), mesh.triangles()),
+        ));
+    }
+    for (name, img) in pictures {
+        write_still(&img, &dir.join(name), OutputFormat::Png)?;
+    }
+    Ok(())
 }

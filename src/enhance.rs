@@ -124,6 +124,9 @@ fn check_factor(what: &str, f: f64) -> Result<(), Error> {
 }
 
 impl Enhancement {
+    /// The factors a level or region may take: [`FACTOR_RANGE`].
+    pub const FACTOR_RANGE: (f64, f64) = FACTOR_RANGE;
+
     /// Whether this changes nothing (every factor 1, no mask).
     pub fn is_identity(&self) -> bool {
         self.per_level == [1.0; 3]

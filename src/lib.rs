@@ -34,45 +34,61 @@
 //! # Ok::<(), vizretarget::Error>(())
 //! ```
 //!
-//! The stages, in the order of the pipeline: [`saliency`], [`mesh`], [`solve`], [`render`].
-//! Marks given as vectors ([`vector`], §5.3) are bound to the mesh and redrawn crisp over the
-//! warped raster; [`enhance`] (§5.4) enlarges chosen levels or regions.
+//! The stages, in the order of the pipeline: the visual saliency map ([`Vsm`], §4), the
+//! adaptive mesh ([`Mesh`], §5.1), the mesh resizing ([`Solver`] giving a [`Warp`], §5.2) and
+//! the render ([`Renderer`]). Marks given as vectors ([`vector`], §5.3) are bound to the mesh
+//! and redrawn crisp over the warped raster; an [`Enhancement`] (§5.4) enlarges chosen levels
+//! or regions. [`Retargeter`] runs the stages in order, frame after frame; [`Pipeline`] runs
+//! the same stages on threads between a source and a sink ([`io`], [`stream`]).
+//!
+//! Everything a user names is re-exported here; the modules that stay public are namespaces
+//! of their own: [`io`] (reading and writing frames), [`stream`] (the traits a source or sink
+//! implements, and the pipeline), [`vector`] (marks as vectors). With the `eval` feature (on
+//! by default, through `binary`): [`baseline`] (the methods compared against), [`metrics`],
+//! [`compare`] (the comparison sheet) and [`debug`] (pictures of the stages).
 
+mod enhance;
 mod error;
 mod image;
+mod limits;
+mod mesh;
 mod raster;
+mod render;
 mod retarget;
+mod saliency;
 mod size;
+mod solve;
+mod structure;
 mod tiles;
 
-pub mod baseline;
-pub mod compare;
-pub mod debug;
-pub mod enhance;
 pub mod io;
-pub mod limits;
-pub mod mesh;
-pub mod metrics;
-pub mod render;
-pub mod saliency;
-pub mod solve;
 pub mod stream;
-pub mod structure;
 pub mod vector;
 
+#[cfg(feature = "eval")]
+pub mod baseline;
+#[cfg(feature = "eval")]
+pub mod compare;
+#[cfg(feature = "eval")]
+pub mod debug;
+#[cfg(feature = "eval")]
+pub mod metrics;
+
+#[cfg(feature = "eval")]
 pub use baseline::{retarget_with, Method, MethodOutput};
 pub use enhance::{EnhanceMask, EnhanceRegion, Enhancement};
 pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
-pub use limits::{Limit, Limits, MemoryPlan};
-pub use mesh::{Mesh, MeshOptions};
-pub use render::Renderer;
+pub use limits::{parse_bytes, Limit, Limits, MemoryPlan};
+pub use mesh::{Boundary, Mesh, MeshOptions};
+pub use render::{resize_linear, Renderer};
 pub use retarget::{
     retarget, Analysis, Decision, Frame, FrameStats, Options, Retargeted, Retargeter, ReuseOptions,
     StageTimes, Status,
 };
 pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
-pub use solve::{EnergyParams, SolveStats, Solver, Warp};
+pub use size::InvalidSize;
+pub use solve::{EnergyParams, Locator, SolveStats, Solver, Warp};
 pub use stream::{FrameSink, FrameSource, Pipeline, Repeat, RunSummary};
-pub use structure::{DataArea, Regions};
+pub use structure::{AreaKind, DataArea, Line, Regions, Structure, TextBlock};
 pub use vector::{MarkSize, VectorLayer, VectorOptions};

@@ -79,25 +79,6 @@ impl TileMask {
         let r1 = ((y1 / t).ceil().max(0.0) as u32).min(self.rows);
         (r0..r1).any(|r| (c0..c1).any(|c| self.get(c, r)))
     }
-    /// This mask grown by one tile in every direction (8-neighbours).
-    pub fn dilated(&self) -> TileMask {
-        let mut out = self.clone();
-        for r in 0..self.rows {
-            for c in 0..self.cols {
-                if self.get(c, r) {
-                    for dr in -1i64..=1 {
-                        for dc in -1i64..=1 {
-                            let (cc, rr) = (c as i64 + dc, r as i64 + dr);
-                            if cc >= 0 && rr >= 0 {
-                                out.set(cc as u32, rr as u32);
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        out
-    }
     /// Set tiles as pixel rectangles `(x0, y0, x1, y1)` clipped to `size`, runs of adjacent
     /// tiles in a row merged.
     pub fn rects(&self, size: Size) -> Vec<[u32; 4]> {

@@ -3,8 +3,8 @@
 
 use glam::DVec2;
 use proptest::prelude::*;
-use vizretarget::structure::{AreaKind, Structure};
 use vizretarget::{retarget, Image, Options, Regions, Size};
+use vizretarget::{AreaKind, Structure};
 
 fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
     for y in y0..y1.min(img.height()) {
@@ -365,7 +365,7 @@ fn where_nothing_floats_the_default_is_the_linear_resize() {
     }
     for target in [Size::new(200, 240).unwrap(), Size::new(400, 144).unwrap()] {
         let out = retarget(&img, target, &Options::default()).unwrap().image;
-        let linear = vizretarget::render::resize_linear(img.as_ref(), target);
+        let linear = vizretarget::resize_linear(img.as_ref(), target);
         assert!(
             out == linear,
             "{target:?}: the default differs from the linear resize"

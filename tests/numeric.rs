@@ -10,7 +10,7 @@
 //! source drawn from a middle band of values must stay inside that band.
 
 use proptest::prelude::*;
-use vizretarget::mesh::Boundary;
+use vizretarget::Boundary;
 use vizretarget::{retarget, Image, Options, Retargeted, Size};
 
 /// A tiny deterministic RNG (xorshift64*), so a failing case is reproducible from its seed.

@@ -3,8 +3,8 @@
 //! text blocks' proportions.
 
 use vizretarget::compare::draw_label;
-use vizretarget::structure::{Structure, TextBlock};
 use vizretarget::{retarget, Image, Options, Regions, Size};
+use vizretarget::{Structure, TextBlock};
 
 fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
     for y in y0..y1 {

@@ -15,7 +15,7 @@
 //! dark background) so that the test needs no files.
 
 use proptest::prelude::*;
-use vizretarget::mesh::Boundary;
+use vizretarget::Boundary;
 use vizretarget::{
     retarget, Image, Mesh, MeshOptions, Options, Renderer, Size, Solver, VsmBuilder, Warp,
 };

@@ -5,7 +5,6 @@
 
 use glam::DVec2;
 use std::sync::Arc;
-use vizretarget::enhance::{EnhanceRegion, Enhancement};
 use vizretarget::io::{FrameMarks, MarkedSource};
 use vizretarget::stream::{NoProgress, VecSink, VecSource};
 use vizretarget::vector::{parse_layer, PointMark};
@@ -13,6 +12,7 @@ use vizretarget::{
     retarget, Frame, FrameSource, Image, Mesh, Options, Pipeline, Retargeted, Retargeter, Size,
     VectorLayer, Warp,
 };
+use vizretarget::{EnhanceRegion, Enhancement};
 
 const COLOURS: [[u8; 4]; 5] = [
     [215, 25, 28, 255],

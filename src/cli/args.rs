@@ -298,7 +298,7 @@ fn parse_count(s: &str) -> Result<u64, String> {
 }
 
 fn parse_memory(s: &str) -> Result<u64, String> {
-    vizretarget::limits::parse_bytes(s)
+    vizretarget::parse_bytes(s)
 }
 
 /// Vector marks (§5.3) and content enhancement (§5.4).
@@ -361,7 +361,7 @@ fn parse_factor(s: &str) -> Result<f64, String> {
         .trim()
         .parse()
         .map_err(|_| format!("'{s}' is not a number"))?;
-    let (lo, hi) = vizretarget::enhance::FACTOR_RANGE;
+    let (lo, hi) = vizretarget::Enhancement::FACTOR_RANGE;
     if !(lo..=hi).contains(&f) {
         return Err(format!("factor {f} is out of range: {lo} to {hi}"));
     }

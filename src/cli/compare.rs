@@ -6,7 +6,6 @@ use super::{library_error, usage, Cli};
 use anyhow::{bail, Context, Result};
 use std::io::Write;
 use std::path::Path;
-use vizretarget::baseline::{Mapping, MethodOutput};
 use vizretarget::compare::{compare, SheetOptions};
 use vizretarget::io::OutputFormat;
 use vizretarget::io::{
@@ -75,7 +74,7 @@ pub fn still_with(
     let out = retarget_with(method, image, target, options).map_err(library_error)?;
     super::still::write_output(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {
-        write_debug(dir, image, &out)?;
+        debug::write_method(dir, image, &out)?;
     }
     if cli.stats {
         let s = &out.stats;
@@ -96,31 +95,6 @@ pub fn still_with(
             t.render_ms,
             t.total_ms(),
         );
-    }
-    Ok(())
-}
-
-/// What the method has of the mesh method's debug pictures: the saliency map and its levels
-/// (all but linear), the mesh before and after (grid).
-fn write_debug(dir: &Path, input: &Image, out: &MethodOutput) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let mut pictures = Vec::new();
-    if let Some(vsm) = &out.vsm {
-        pictures.push(("vsm.png", debug::vsm_image(vsm)));
-        pictures.push(("levels.png", debug::levels_image(vsm)));
-    }
-    if let Mapping::Warp { mesh, warp } = &out.mapping {
-        pictures.push((
-            "mesh-before.png",
-            debug::mesh_overlay(input, mesh.vertices(), mesh.triangles()),
-        ));
-        pictures.push((
-            "mesh-after.png",
-            debug::mesh_overlay(&out.image, warp.positions(), mesh.triangles()),
-        ));
-    }
-    for (name, img) in pictures {
-        write_still(&img, &dir.join(name), OutputFormat::Png)?;
     }
     Ok(())
 }

@@ -1,15 +1,15 @@
 //! `--marks`, `--enhance*`: from arguments to the library's options and a source of per-frame
 //! marks. Wiring only; the formats and the method are in `vizretarget::vector` and
-//! `vizretarget::enhance`.
+//! `vizretarget::Enhancement`.
 
 use super::args::{MarkSizeArg, VectorArgs};
 use anyhow::Result;
 use std::path::Path;
 use std::sync::Arc;
-use vizretarget::enhance::{EnhanceMask, Enhancement};
 use vizretarget::io::FrameMarks;
 use vizretarget::io::{list_images, read_still_with, Input, InputKind};
 use vizretarget::vector::read_layer;
+use vizretarget::{EnhanceMask, Enhancement};
 use vizretarget::{MarkSize, Options};
 
 /// Whether any option of §5.3–5.4 is given.

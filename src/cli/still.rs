@@ -55,7 +55,7 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
     let out = retarget(&image, target, &options)?;
     write_output(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {
-        write_debug(dir, &image, &out)?;
+        debug::write(dir, &image, &out)?;
     }
     if cli.stats {
         print_stats(input, image.size(), &out);
@@ -77,109 +77,6 @@ pub fn write_output(image: &Image, output: &Path, format: OutputFormat) -> Resul
         }
         _ => Ok(()),
     }
-}
-
-fn write_debug(dir: &Path, input: &vizretarget::Image, out: &Retargeted) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let a = out.analysis.as_ref().context("analysis was not kept")?;
-    let structure = a.mesh.structure().cloned().unwrap_or_default();
-    let pictures = [
-        ("vsm.png", debug::vsm_image(&a.vsm)),
-        ("structure.png", debug::structure_overlay(input, &structure)),
-        ("levels.png", debug::levels_image(&a.vsm)),
-        (
-            "mesh-before.png",
-            debug::mesh_overlay(input, a.mesh.vertices(), a.mesh.triangles()),
-        ),
-        (
-            "mesh-after.png",
-            debug::mesh_overlay(&out.image, a.warp.positions(), a.mesh.triangles()),
-        ),
-    ];
-    for (name, img) in pictures {
-        write_still(&img, &dir.join(name), OutputFormat::Png)?;
-    }
-    let path = dir.join("structure.json");
-    let mut json = structure_json(&structure);
-    json["text_out"] = text_out_json(input, &a.mesh, &a.warp);
-    std::fs::write(&path, json.to_string())
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
-}
-
-/// The detected structure as JSON: lines as `[pos, from, to, width]`, text blocks as
-/// `[x0, y0, x1, y1, line_height]`, in input pixels.
-fn structure_json(s: &vizretarget::structure::Structure) -> serde_json::Value {
-    let lines = |v: &[vizretarget::structure::Line]| -> Vec<serde_json::Value> {
-        v.iter()
-            .map(|l| serde_json::json!([l.pos, l.from, l.to, l.width]))
-            .collect()
-    };
-    serde_json::json!({
-        "horizontal": lines(&s.horizontal),
-        "vertical": lines(&s.vertical),
-        "text": s.text.iter().map(|b| serde_json::json!([b.x0, b.y0, b.x1, b.y1, b.line_height])).collect::<Vec<_>>(),
-        "areas": s.areas.iter().map(|a| serde_json::json!([a.x0, a.y0, a.x1, a.y1, format!("{:?}", a.kind)])).collect::<Vec<_>>(),
-    })
-}
-
-/// Where the warp put each text block: `[x0, y0, x1, y1, scale]` in output pixels, the box of
-/// its vertices and its width's scale (a block keeps one scale), or null for a block without
-/// vertices of its own. A block inside a data area is drawn over the area's map at its own
-/// scale, centred where the map takes its centre.
-fn text_out_json(
-    input: &vizretarget::Image,
-    mesh: &vizretarget::mesh::Mesh,
-    warp: &vizretarget::Warp,
-) -> serde_json::Value {
-    let out = warp.positions();
-    let maps = warp.area_maps(mesh);
-    let placed = mesh.structure().map_or(Vec::new(), |s| {
-        vizretarget::render::area_text_placements(input, s, &maps, warp.target())
-    });
-    let floated = |k: usize| -> Option<serde_json::Value> {
-        let p = (*placed.get(k)?)?;
-        let b = mesh.structure()?.text.get(k)?;
-        let (hw, hh) = (
-            p.scale * (b.x1 - b.x0) as f64 / 2.0,
-            p.scale * (b.y1 - b.y0) as f64 / 2.0,
-        );
-        let (cx, cy) = (p.centre.x, p.centre.y);
-        Some(serde_json::json!([
-            cx - hw,
-            cy - hh,
-            cx + hw,
-            cy + hh,
-            p.scale
-        ]))
-    };
-    let n = mesh.structure().map_or(0, |s| s.text.len());
-    let mut boxes = vec![None::<[f64; 6]>; n];
-    for (i, r) in mesh.roles().iter().enumerate() {
-        let Some(k) = r.block else { continue };
-        let (p, q) = (mesh.vertices()[i], out[i]);
-        let b = boxes[k as usize].get_or_insert([q.x, q.y, q.x, q.y, p.x, p.x]);
-        *b = [
-            b[0].min(q.x),
-            b[1].min(q.y),
-            b[2].max(q.x),
-            b[3].max(q.y),
-            b[4].min(p.x),
-            b[5].max(p.x),
-        ];
-    }
-    boxes
-        .iter()
-        .enumerate()
-        .map(|(k, b)| {
-            floated(k).unwrap_or_else(|| match b {
-                Some(b) if b[5] > b[4] => {
-                    serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
-                }
-                _ => serde_json::Value::Null,
-            })
-        })
-        .collect()
 }
 
 fn print_stats(input: &Path, from: Size, out: &Retargeted) {

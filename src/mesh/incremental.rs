@@ -44,6 +44,7 @@ pub struct IncrementalMesh {
 impl IncrementalMesh {
     /// Samples key points on `vsm` and triangulates them, numbering vertices from `first_id`
     /// (ids are never reused within a stream, so a rebuilt mesh shares none with the last).
+    #[cfg(test)]
     pub fn build(vsm: &Vsm, options: &MeshOptions, first_id: u64) -> (IncrementalMesh, Mesh) {
         IncrementalMesh::build_with(vsm, None, options, first_id)
     }

@@ -12,11 +12,9 @@ mod sampling;
 mod skeleton;
 mod triangulate;
 
-pub use crate::tiles::TileMask;
 pub use incremental::IncrementalMesh;
 pub(crate) use marks::find_marks;
 pub use marks::Mark;
-pub use sampling::{KeyPoint, KeyPointKind};
 
 use crate::image::Size;
 use crate::raster::snap;
@@ -363,6 +361,7 @@ fn fans_of(hubs: &[(u32, f64)], vertices: &[DVec2], triangles: &[[u32; 3]]) -> V
 
 /// Twice the signed area of a triangle: positive for the mesh's orientation.
 #[inline]
+#[cfg(any(test, feature = "eval"))]
 pub fn cross2(p: [DVec2; 3]) -> f64 {
     (p[1] - p[0]).perp_dot(p[2] - p[0])
 }

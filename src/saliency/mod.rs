@@ -18,7 +18,6 @@ mod levels;
 mod second_region;
 
 pub use levels::SaliencyLevel;
-pub use second_region::BINS as HISTOGRAM_BINS;
 
 use crate::image::{ImageRef, Size};
 

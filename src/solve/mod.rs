@@ -56,6 +56,7 @@ impl Warp {
     /// A warp that maps each vertex `(x, y)` of `mesh` to `(fx(x), fy(y))`: axis-aligned, so
     /// with `fx`, `fy` increasing it never folds ([`crate::baseline`]'s axis-aligned method).
     /// Positions are put on the renderer's grid; each triangle's scale is its area ratio's root.
+    #[cfg(feature = "eval")]
     pub(crate) fn separable(
         mesh: &Mesh,
         target: Size,
