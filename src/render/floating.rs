@@ -183,105 +183,285 @@ pub fn area_text_placements(
     maps: &[Option<[f64; 4]>],
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
-    let text = &st.text;
-    let grounds: Vec<([u8; 3], f64)> = text.iter().map(|t| box_ground(src, t)).collect();
+    let layout = TextLayout::new(src, st, maps, target);
+    let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
-    // Ink of two colours is not a word (a line through a marker, dots along an axis): such
-    // a block follows the map and has no say in how the text floats.
-    let words: Vec<bool> = (text.iter().zip(&grounds))
-        .map(|(t, g)| one_ink(src, t, g.0))
-        .collect();
-    // Anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge most of
-    // its blocks share: a y axis' "120" and "100" share their left edges by chance, all its
-    // labels their right.
-    let anchor = |i: usize| {
-        let t = &text[i];
-        if t.sideways {
-            return 0.5;
-        }
-        // Blocks aligned with `t` by an edge (above or below it).
-        let column = |edge: fn(&TextBlock) -> u32| {
-            text.iter()
-                .enumerate()
-                .filter(|&(j, o)| {
-                    j != i
-                        && !o.sideways
-                        && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
-                        && (o.y0 >= t.y1 || o.y1 <= t.y0)
-                })
-                .count()
-        };
-        match (column(|b| b.x0), column(|b| b.x1)) {
-            (0, 0) => 0.5,
-            // Both edges aligned (labels of one width): the side facing what they name, the
-            // nearer ink, stays put.
-            (left, right) if left == right => {
-                let gap = |dir: i64| {
-                    let (y, reach) = ((t.y0 + t.y1) / 2, 4 * t.line_height as i64);
-                    let start = if dir > 0 {
-                        t.x1 as i64
-                    } else {
-                        t.x0 as i64 - 1
-                    };
-                    (0..reach)
-                        .map(|k| start + dir * k)
-                        .take_while(|&x| x >= 0 && x < src.width() as i64)
-                        .take_while(|&x| {
-                            let p = src.get(x as u32, y.min(src.height() - 1));
-                            same_colour([p[0], p[1], p[2]], grounds[i].0)
-                        })
-                        .count()
-                };
-                if gap(1) < gap(-1) {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
-            (left, right) if right > left => 1.0,
-            _ => 0.0,
-        }
+    let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
+    let group = type_groups(text, &area_of, &scale);
+    let mut room = Room {
+        scale,
+        shift: vec![DVec2::ZERO; text.len()],
+        covered: vec![None; text.len()],
     };
-    // Found once: `placed` runs for every trial place and scale.
-    let anchors: Vec<f64> = (0..text.len()).map(anchor).collect();
-    let (tw, th) = (target.width as f64, target.height as f64);
-    // Output box of block i at scale s, moved by `shift[i]` (None: not in an area with a map).
-    let mut shift = vec![DVec2::ZERO; text.len()];
-    let placed = |i: usize, s: f64, d: DVec2| -> Option<[f64; 4]> {
-        let t = &text[i];
-        let [ax, bx, ay, by] = (*maps.get(area_of(t)?)?)?;
+    layout.make_room(&movers(text, &group), &mut room);
+    let Room {
+        mut scale, shift, ..
+    } = room;
+    share_scale(text, &area_of, &mut scale);
+    layout.all_or_none_on_canvas(&mut scale);
+    (0..text.len())
+        .map(|i| {
+            let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
+            let b = layout.placed(i, s, shift[i])?;
+            Some(TextPlacement {
+                centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
+                scale: s,
+            })
+        })
+        .collect()
+}
+
+/// Times the floating blocks step aside and shrink before they are left as they are.
+const MAKE_ROOM_ROUNDS: usize = 12;
+/// Factor a block in the way shrinks by in each round.
+const SHRINK_STEP: f64 = 0.9;
+
+/// What placing the text blocks of one frame reads, found once: `placed` runs for every
+/// trial place and scale.
+struct TextLayout<'a> {
+    src: &'a Image,
+    st: &'a crate::structure::Structure,
+    text: &'a [TextBlock],
+    maps: &'a [Option<[f64; 4]>],
+    /// Each block's ground colour and the share of its box's ring it takes ([`box_ground`]).
+    grounds: Vec<([u8; 3], f64)>,
+    /// Whether each block's ink is one colour ([`one_ink`]): ink of two colours is not a
+    /// word (a line through a marker, dots along an axis), so such a block follows the map
+    /// and has no say in how the text floats.
+    words: Vec<bool>,
+    /// Each block's anchor along x ([`anchor`]).
+    anchors: Vec<f64>,
+    /// The output canvas, which every block is kept inside.
+    size: (f64, f64),
+}
+
+/// Where the floating blocks stand while they make room for one another.
+struct Room {
+    /// Each block's scale (as [`TextLayout::float_scale`], then shrunk).
+    scale: Vec<Option<f64>>,
+    /// Each block's step aside from where its area's map puts it.
+    shift: Vec<DVec2>,
+    /// Whether each block at its scale and place covers ink, once looked at: it depends on
+    /// its own box alone, so it is looked at again only once the block has shrunk or moved.
+    covered: Vec<Option<bool>>,
+}
+
+/// A group of blocks that steps aside as one, and the unit steps it may take.
+struct Mover {
+    members: Vec<usize>,
+    moves: Vec<DVec2>,
+}
+
+impl<'a> TextLayout<'a> {
+    fn new(
+        src: &'a Image,
+        st: &'a crate::structure::Structure,
+        maps: &'a [Option<[f64; 4]>],
+        target: Size,
+    ) -> TextLayout<'a> {
+        let text = &st.text[..];
+        let grounds: Vec<([u8; 3], f64)> = text.iter().map(|t| box_ground(src, t)).collect();
+        let words = (text.iter().zip(&grounds))
+            .map(|(t, g)| one_ink(src, t, g.0))
+            .collect();
+        let anchors = (0..text.len())
+            .map(|i| anchor(src, text, grounds[i].0, i))
+            .collect();
+        TextLayout {
+            src,
+            st,
+            text,
+            maps,
+            grounds,
+            words,
+            anchors,
+            size: (target.width as f64, target.height as f64),
+        }
+    }
+
+    fn area_of(&self, t: &TextBlock) -> Option<usize> {
+        self.st.area_of(t)
+    }
+
+    /// Output box of block i at scale `s`, moved by `d` (None: not in an area with a map).
+    fn placed(&self, i: usize, s: f64, d: DVec2) -> Option<[f64; 4]> {
+        let t = &self.text[i];
+        let (tw, th) = self.size;
+        let [ax, bx, ay, by] = (*self.maps.get(self.area_of(t)?)?)?;
         let (x0, x1, y0, y1) = (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64);
-        let k = anchors[i];
+        let k = self.anchors[i];
         let ax_src = x0 + k * (x1 - x0);
         let (w, h) = (s * (x1 - x0), s * (y1 - y0));
         let left = (ax * ax_src + bx - k * w + d.x).clamp(0.0, (tw - w).max(0.0));
         let top = (ay * (y0 + y1) / 2.0 + by - h / 2.0 + d.y).clamp(0.0, (th - h).max(0.0));
         Some([left, top, left + w, top + h])
-    };
-    let mut scale: Vec<Option<f64>> = (0..text.len())
-        .map(|i| {
-            let t = &text[i];
-            // Only text on flat ground floats: its box, pasted whole, then hides nothing but
-            // its own squeezed copy. A block on a busy ground (a label on a map, in a treemap's
-            // cell, the crossing of a heat map's separators) follows the map, and so does
-            // every label of its size ([`share_scale`]).
-            if grounds[i].1 < FLAT_GROUND {
-                return Some(CANNOT_FLOAT);
+    }
+
+    /// The scale block i would float at before it makes room for others: the larger of its
+    /// area's two scales, at most 1; [`CANNOT_FLOAT`] on a busy ground, `None` if it is no
+    /// word or has no map.
+    fn float_scale(&self, i: usize) -> Option<f64> {
+        let t = &self.text[i];
+        // Only text on flat ground floats: its box, pasted whole, then hides nothing but
+        // its own squeezed copy. A block on a busy ground (a label on a map, in a treemap's
+        // cell, the crossing of a heat map's separators) follows the map, and so does
+        // every label of its size ([`share_scale`]).
+        if self.grounds[i].1 < FLAT_GROUND {
+            return Some(CANNOT_FLOAT);
+        }
+        if !self.words[i] {
+            return None;
+        }
+        let [ax, _, ay, _] = (*self.maps.get(self.area_of(t)?)?)?;
+        Some(ax.max(ay).min(1.0))
+    }
+
+    /// Whether block i drawn over `b` hides ink that is not text floating with it.
+    fn covers(&self, i: usize, b: [f64; 4], floating: &[&TextBlock]) -> bool {
+        let t = &self.text[i];
+        let (ground, area) = (self.grounds[i].0, self.area_of(t));
+        covers_ink(self.src, t, ground, b, self.maps, area, floating)
+    }
+
+    /// Whether block i over `bi` is in the way: it overlaps another block's box or covers
+    /// ink (cached in `covered`, see [`Room::covered`]).
+    fn in_the_way(
+        &self,
+        (i, bi): (usize, [f64; 4]),
+        boxes: &[Option<[f64; 4]>],
+        covered: &mut Option<bool>,
+        floating: &[&TextBlock],
+    ) -> bool {
+        clash(i, bi, boxes) || *covered.get_or_insert_with(|| self.covers(i, bi, floating))
+    }
+
+    /// Blocks in the way step aside, before any shrinks, to the nearest place that is clear:
+    /// blocks read alone first (a title, an axis title), then aligned rows across their line
+    /// and columns along theirs, each as one; those still in the way shrink, and again, for
+    /// at most [`MAKE_ROOM_ROUNDS`].
+    fn make_room(&self, movers: &[Mover], room: &mut Room) {
+        let text = self.text;
+        for _ in 0..MAKE_ROOM_ROUNDS {
+            let floating: Vec<&TextBlock> = (0..text.len())
+                .filter(|&j| room.scale[j].is_some_and(|s| s >= MIN_TEXT_FLOAT))
+                .map(|j| &text[j])
+                .collect();
+            let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
+                .map(|i| {
+                    room.scale[i]
+                        .filter(|&s| s > CANNOT_FLOAT)
+                        .and_then(|s| self.placed(i, s, room.shift[i]))
+                })
+                .collect();
+            for mover in movers {
+                self.step_aside(mover, room, &mut boxes, &floating);
             }
-            if !words[i] {
-                return None;
+            let shrink: Vec<bool> = boxes
+                .iter()
+                .enumerate()
+                .map(|(i, bi)| {
+                    bi.is_some_and(|bi| {
+                        self.in_the_way((i, bi), &boxes, &mut room.covered[i], &floating)
+                    })
+                })
+                .collect();
+            if !shrink.contains(&true) {
+                break;
             }
-            let [ax, _, ay, _] = (*maps.get(area_of(t)?)?)?;
-            Some(ax.max(ay).min(1.0))
-        })
-        .collect();
-    let group = type_groups(text, &area_of, &scale);
-    // Each group that may move, with the directions it may move in: a block alone any way,
-    // a row (an x axis' ticks) across its line, a column (a y axis' ticks) along its lines,
-    // so that no label slides off the tick it names; blocks read alone first.
-    let mut movers: Vec<(Vec<usize>, Vec<DVec2>)> = Vec::new();
+            for ((s, c), &k) in room.scale.iter_mut().zip(&mut room.covered).zip(&shrink) {
+                if k {
+                    *s = s.map(|v| v * SHRINK_STEP);
+                    *c = None;
+                }
+            }
+        }
+    }
+
+    /// Moves `mover`'s blocks, if any is in the way, by the shortest of its steps (up to
+    /// [`NUDGE_LINES`] line heights) that leaves them all clear, in `room` and in `boxes`.
+    fn step_aside(
+        &self,
+        Mover { members, moves }: &Mover,
+        room: &mut Room,
+        boxes: &mut [Option<[f64; 4]>],
+        floating: &[&TextBlock],
+    ) {
+        let conflict = members.iter().any(|&i| {
+            boxes[i]
+                .is_some_and(|bi| self.in_the_way((i, bi), boxes, &mut room.covered[i], floating))
+        });
+        if !conflict || members.iter().any(|&i| boxes[i].is_none()) {
+            return;
+        }
+        let (scale, shift) = (&room.scale, &mut room.shift);
+        let reach = (members.iter())
+            .map(|&i| NUDGE_LINES * scale[i].unwrap_or(0.0) * self.text[i].line_height as f64)
+            .fold(f64::INFINITY, f64::min);
+        let mut trial = boxes.to_vec();
+        let found = (1..=reach.floor() as i32)
+            .flat_map(|r| moves.iter().map(move |&m| m * r as f64))
+            .find(|&d| {
+                for &i in members {
+                    trial[i] = scale[i].and_then(|s| self.placed(i, s, shift[i] + d));
+                }
+                members.iter().all(|&i| {
+                    trial[i].is_some_and(|b| !clash(i, b, &trial) && !self.covers(i, b, floating))
+                })
+            });
+        if let Some(d) = found {
+            for &i in members {
+                shift[i] += d;
+                boxes[i] = trial[i];
+                room.covered[i] = Some(false);
+            }
+        }
+    }
+
+    /// On a canvas taken whole, the text floats all of it or none: a title at its size over
+    /// condensed labels reads worse than all of it condensed, and so do groups of blocks
+    /// floating on their own beside condensed ones.
+    fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) {
+        let text = self.text;
+        let on_canvas = |t: &TextBlock| {
+            (self.area_of(t))
+                .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
+        };
+        if (0..text.len()).any(|i| {
+            self.words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
+        }) {
+            for (i, s) in scale.iter_mut().enumerate() {
+                if on_canvas(&text[i]) {
+                    *s = None;
+                }
+            }
+        }
+    }
+}
+
+/// Boxes `a` and `b` lie closer than [`TEXT_GAP_PX`].
+fn overlap(a: [f64; 4], b: [f64; 4]) -> bool {
+    a[0] < b[2] + TEXT_GAP_PX
+        && b[0] < a[2] + TEXT_GAP_PX
+        && a[1] < b[3] + TEXT_GAP_PX
+        && b[1] < a[3] + TEXT_GAP_PX
+}
+
+/// Block i over `bi` lies too close to another block's box.
+fn clash(i: usize, bi: [f64; 4], boxes: &[Option<[f64; 4]>]) -> bool {
+    boxes
+        .iter()
+        .enumerate()
+        .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
+}
+
+/// Each group that may move, with the directions it may move in: a block alone any way, a
+/// row (an x axis' ticks) across its line, a column (a y axis' ticks) along its lines, so
+/// that no label slides off the tick it names; blocks read alone first.
+fn movers(text: &[TextBlock], group: &[usize]) -> Vec<Mover> {
+    let mut movers: Vec<Mover> = Vec::new();
     for g in (0..text.len()).filter(|&g| group[g] == g) {
-        let m: Vec<usize> = (0..text.len()).filter(|&i| group[i] == g).collect();
+        let members: Vec<usize> = (0..text.len()).filter(|&i| group[i] == g).collect();
+        let m = &members;
         let row = m
             .iter()
             .all(|&i| m.iter().all(|&j| text[i].y0 < text[j].y1));
@@ -296,122 +476,65 @@ pub fn area_text_placements(
             (false, false, true) => vec![left, right],
             _ => continue,
         };
-        movers.push((m, moves));
+        movers.push(Mover { members, moves });
     }
-    movers.sort_by_key(|(m, _)| m.len() > 1);
-    let overlap = |a: [f64; 4], b: [f64; 4]| {
-        a[0] < b[2] + TEXT_GAP_PX
-            && b[0] < a[2] + TEXT_GAP_PX
-            && a[1] < b[3] + TEXT_GAP_PX
-            && b[1] < a[3] + TEXT_GAP_PX
-    };
-    let clash = |i: usize, bi: [f64; 4], boxes: &[Option<[f64; 4]>]| {
-        boxes
-            .iter()
+    movers.sort_by_key(|m| m.members.len() > 1);
+    movers
+}
+
+/// Block i's anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge
+/// most of its blocks share: a y axis' "120" and "100" share their left edges by chance, all
+/// its labels their right.
+fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
+    let t = &text[i];
+    if t.sideways {
+        return 0.5;
+    }
+    // Blocks aligned with `t` by an edge (above or below it).
+    let column = |edge: fn(&TextBlock) -> u32| {
+        text.iter()
             .enumerate()
-            .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
-    };
-    // Whether block i drawn over `b` hides ink that is not text floating with it.
-    let covers = |i: usize, b: [f64; 4], floating: &[&TextBlock]| {
-        let t = &text[i];
-        covers_ink(src, t, grounds[i].0, b, maps, area_of(t), floating)
-    };
-    // Whether block i at its present scale and place covers ink: it depends on its own box
-    // alone, so it is looked at again only once the block has shrunk or moved.
-    let mut covered: Vec<Option<bool>> = vec![None; text.len()];
-    for _ in 0..12 {
-        let floating: Vec<&TextBlock> = (0..text.len())
-            .filter(|&j| scale[j].is_some_and(|s| s >= MIN_TEXT_FLOAT))
-            .map(|j| &text[j])
-            .collect();
-        let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
-            .map(|i| {
-                scale[i]
-                    .filter(|&s| s > CANNOT_FLOAT)
-                    .and_then(|s| placed(i, s, shift[i]))
+            .filter(|&(j, o)| {
+                j != i
+                    && !o.sideways
+                    && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
+                    && (o.y0 >= t.y1 || o.y1 <= t.y0)
             })
-            .collect();
-        // Blocks in the way step aside, before any shrinks, to the nearest place that is
-        // clear: blocks read alone first (a title, an axis title), then aligned rows across
-        // their line and columns along theirs, each as one.
-        for (members, moves) in &movers {
-            let conflict = members.iter().any(|&i| {
-                boxes[i].is_some_and(|bi| {
-                    clash(i, bi, &boxes)
-                        || *covered[i].get_or_insert_with(|| covers(i, bi, &floating))
-                })
-            });
-            if !conflict || members.iter().any(|&i| boxes[i].is_none()) {
-                continue;
-            }
-            let reach = (members.iter())
-                .map(|&i| NUDGE_LINES * scale[i].unwrap_or(0.0) * text[i].line_height as f64)
-                .fold(f64::INFINITY, f64::min);
-            let mut trial = boxes.clone();
-            let found = (1..=reach.floor() as i32)
-                .flat_map(|r| moves.iter().map(move |&m| m * r as f64))
-                .find(|&d| {
-                    for &i in members {
-                        trial[i] = scale[i].and_then(|s| placed(i, s, shift[i] + d));
-                    }
-                    members.iter().all(|&i| {
-                        trial[i].is_some_and(|b| !clash(i, b, &trial) && !covers(i, b, &floating))
-                    })
-                });
-            if let Some(d) = found {
-                for &i in members {
-                    shift[i] += d;
-                    boxes[i] = trial[i];
-                    covered[i] = Some(false);
-                }
+            .count()
+    };
+    match (column(|b| b.x0), column(|b| b.x1)) {
+        (0, 0) => 0.5,
+        // Both edges aligned (labels of one width): the side facing what they name, the
+        // nearer ink, stays put.
+        (left, right) if left == right => {
+            if ground_run(src, t, ground, 1) < ground_run(src, t, ground, -1) {
+                1.0
+            } else {
+                0.0
             }
         }
-        let shrink: Vec<bool> = boxes
-            .iter()
-            .enumerate()
-            .map(|(i, bi)| {
-                bi.is_some_and(|bi| {
-                    clash(i, bi, &boxes)
-                        || *covered[i].get_or_insert_with(|| covers(i, bi, &floating))
-                })
-            })
-            .collect();
-        if !shrink.contains(&true) {
-            break;
-        }
-        for ((s, c), &k) in scale.iter_mut().zip(&mut covered).zip(&shrink) {
-            if k {
-                *s = s.map(|v| v * 0.9);
-                *c = None;
-            }
-        }
+        (left, right) if right > left => 1.0,
+        _ => 0.0,
     }
-    share_scale(text, &area_of, &mut scale);
-    // On a canvas taken whole, the text floats all of it or none: judged blind, a title at
-    // its size over condensed labels read worse than all condensed (judged again with the
-    // blocks that step aside: groups floating on their own ranked last in 28 of 48 cases).
-    let on_canvas = |t: &TextBlock| {
-        area_of(t).is_some_and(|k| st.areas[k].kind == crate::structure::AreaKind::Canvas)
+}
+
+/// Pixels of `ground` from text block `t`'s side in direction `dir` (1 right, -1 left) along
+/// its middle row, up to 4 line heights: how far the nearest ink on that side lies.
+fn ground_run(src: &Image, t: &TextBlock, ground: [u8; 3], dir: i64) -> usize {
+    let (y, reach) = ((t.y0 + t.y1) / 2, 4 * t.line_height as i64);
+    let start = if dir > 0 {
+        t.x1 as i64
+    } else {
+        t.x0 as i64 - 1
     };
-    if (0..text.len())
-        .any(|i| words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT))
-    {
-        for (i, s) in scale.iter_mut().enumerate() {
-            if on_canvas(&text[i]) {
-                *s = None;
-            }
-        }
-    }
-    (0..text.len())
-        .map(|i| {
-            let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
-            let b = placed(i, s, shift[i])?;
-            Some(TextPlacement {
-                centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
-                scale: s,
-            })
+    (0..reach)
+        .map(|k| start + dir * k)
+        .take_while(|&x| x >= 0 && x < src.width() as i64)
+        .take_while(|&x| {
+            let p = src.get(x as u32, y.min(src.height() - 1));
+            same_colour([p[0], p[1], p[2]], ground)
         })
-        .collect()
+        .count()
 }
 
 /// Line heights this close (as a share of the larger) are one size of type.
