@@ -813,44 +813,101 @@ pub(crate) fn area_marks(
     vsm: &Vsm,
     st: &crate::structure::Structure,
 ) -> Vec<(Mark, usize, [u8; 3])> {
-    let areas = &st.areas[..];
-    // Blocks of two inks are not words (dots along an axis): they shelter no mark.
-    let text: Vec<&TextBlock> = (st.text.iter())
-        .filter(|t| one_ink(src, t, box_ground(src, t).0))
-        .collect();
-    let s = vsm.scale() as f64;
     let grid = vsm.grid_size();
     let (gw, gh) = (grid.width as usize, grid.height as usize);
-    let imp = vsm.importance();
-    let mut seen = vec![false; gw * gh];
-    let mut stack: Vec<usize> = Vec::new();
+    let mut scan = MarkScan {
+        src,
+        // Blocks of two inks are not words (dots along an axis): they shelter no mark.
+        text: (st.text.iter())
+            .filter(|t| one_ink(src, t, box_ground(src, t).0))
+            .collect(),
+        s: vsm.scale() as f64,
+        gw,
+        gh,
+        imp: vsm.importance(),
+        seen: vec![false; gw * gh],
+        stack: Vec::new(),
+    };
     let mut out = Vec::new();
-    for (k, a) in areas.iter().enumerate() {
+    for (k, a) in st.areas.iter().enumerate() {
+        scan.area(k, a, &mut out);
+    }
+    out
+}
+
+/// The search for the data areas' marks: what it reads, and the blobs' flood fill's state,
+/// kept across areas (a cell is in one blob at most).
+struct MarkScan<'a> {
+    src: &'a Image,
+    /// Text blocks of one ink: a blob over one is a glyph, no mark.
+    text: Vec<&'a TextBlock>,
+    /// The importance map's cell size (source pixels), its size in cells, and its cells.
+    s: f64,
+    gw: usize,
+    gh: usize,
+    imp: &'a [f32],
+    seen: Vec<bool>,
+    stack: Vec<usize>,
+}
+
+/// One data area as its marks are looked for.
+struct AreaCells {
+    /// Cells `[c0, r0, c1, r1)` whose centre lies strictly inside the area.
+    window: [usize; 4],
+    /// Largest side of a mark ([`AREA_MARK_SHARE`] of the area's shorter side), pixels.
+    max_side: f64,
+    /// The area is a whole canvas taken as one ([`crate::structure::AreaKind::Canvas`]).
+    whole_canvas: bool,
+}
+
+/// What a blob of one colour is to [`area_marks`].
+enum BlobKind {
+    /// A round mark standing alone, which floats.
+    Mark(Mark),
+    /// Not a mark (a region, a line, a bar): its colour's marks on a whole canvas do not float.
+    Spoils,
+    /// Says nothing of its colour: a speck, a glyph, what the area's edge cuts, a bar or a
+    /// cell on a whole canvas.
+    Mute,
+}
+
+impl MarkScan<'_> {
+    /// Appends area `k`'s marks to `out`, each with `k` and its colour.
+    fn area(
+        &mut self,
+        k: usize,
+        a: &crate::structure::DataArea,
+        out: &mut Vec<(Mark, usize, [u8; 3])>,
+    ) {
+        let s = self.s;
         // A whole canvas taken as one area (`--regions affine`) may be a map or a graph,
-        // where a blob is as likely a region or a cluster as a mark: judged blind, pasting
-        // some of them round tore maps and left round marks beside squeezed ones, worse than
-        // a linear resize's uniform squeeze. There a colour's marks float all together or
+        // where a blob is as likely a region or a cluster as a mark: pasting some of them
+        // round tears maps and leaves round marks beside squeezed ones, worse than a linear
+        // resize's uniform squeeze. There a colour's marks float all together or
         // not at all: only if every blob of that colour is a round mark standing alone.
-        let whole_canvas = a.kind == crate::structure::AreaKind::Canvas;
+        let cells = AreaCells {
+            window: [
+                ((a.x0 / s).floor() as usize + 1).min(self.gw),
+                ((a.y0 / s).floor() as usize + 1).min(self.gh),
+                ((a.x1 / s).ceil() as usize).saturating_sub(1).min(self.gw),
+                ((a.y1 / s).ceil() as usize).saturating_sub(1).min(self.gh),
+            ],
+            max_side: AREA_MARK_SHARE * (a.x1 - a.x0).min(a.y1 - a.y0),
+            whole_canvas: a.kind == crate::structure::AreaKind::Canvas,
+        };
         let first = out.len();
         // Colours with a blob that is no round mark standing alone, from each pass: a pale
         // colour spoils only pale marks (colours near one another need not be near a third).
         let mut spoiled: [Vec<[u8; 3]>; 2] = Default::default();
         let mut first_pale = usize::MAX;
-        // Cells whose centre lies strictly inside the area.
-        let c0 = ((a.x0 / s).floor() as usize + 1).min(gw);
-        let c1 = ((a.x1 / s).ceil() as usize).saturating_sub(1).min(gw);
-        let r0 = ((a.y0 / s).floor() as usize + 1).min(gh);
-        let r1 = ((a.y1 / s).ceil() as usize).saturating_sub(1).min(gh);
-        let max_side = AREA_MARK_SHARE * (a.x1 - a.x0).min(a.y1 - a.y0);
         // Marks of strong colours first; then, of colours none of those has, pale marks on a
         // ground near the frame's mean (a cyan dot on a light sea). A strong colour's pale
         // shades (a bubble's translucent overlap, its antialiased rim) are its business.
         // Only on a canvas taken whole, where a colour floats all or none: in an area bounded
         // by axes a pale colour is as likely a strong mark's antialiased rim, floated alone.
-        let pale = (median_importance(imp, gw, [c0, r0, c1, r1]) + MARK_ABOVE_GROUND)
+        let pale = (median_importance(self.imp, self.gw, cells.window) + MARK_ABOVE_GROUND)
             .min(AREA_MARK_IMPORTANCE);
-        let passes = if whole_canvas && pale < AREA_MARK_IMPORTANCE {
+        let passes = if cells.whole_canvas && pale < AREA_MARK_IMPORTANCE {
             2
         } else {
             1
@@ -861,105 +918,130 @@ pub(crate) fn area_marks(
             if pass_pale {
                 first_pale = out.len();
             }
-            for r in r0..r1 {
-                for c in c0..c1 {
-                    let start = r * gw + c;
-                    if seen[start] || imp[start] < least {
-                        continue;
+            let ([c0, r0, c1, r1], gw) = (cells.window, self.gw);
+            for start in (r0..r1).flat_map(|r| (c0..c1).map(move |c| r * gw + c)) {
+                if self.seen[start] || self.imp[start] < least {
+                    continue;
+                }
+                // One colour: a line chart's markers stand apart from the line through them.
+                let colour = cell_colour(self.src, s, start % gw, start / gw);
+                if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
+                    continue;
+                }
+                if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
+                    strong.push(colour);
+                }
+                match self.blob_at(start, least, colour, &cells) {
+                    BlobKind::Mark(m) => out.push((m, k, colour)),
+                    BlobKind::Spoils if cells.whole_canvas => {
+                        spoiled[pass_pale as usize].push(colour)
                     }
-                    // One colour: a line chart's markers stand apart from the line through them.
-                    let colour = cell_colour(src, s, start % gw, start / gw);
-                    if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
-                        continue;
-                    }
-                    if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
-                        strong.push(colour);
-                    }
-                    let window = [c0, r0, c1, r1];
-                    let same = |j: usize| {
-                        imp[j] >= least && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
-                    };
-                    let Blob {
-                        cells: [x0, y0, x1, y1],
-                        count: cells,
-                        mean: (mx, my),
-                    } = flood(start, gw, window, &mut seen, &mut stack, same);
-                    let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
-                    let bbox = ink_box(
-                        src,
-                        [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
-                        colour,
-                        s.ceil() as u32 + RIM_PX,
-                    );
-                    let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
-                    let fill = cells as f64 / ((x1 - x0) * (y1 - y0)) as f64;
-                    let in_text = text.iter().any(|t| {
-                        (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
-                    });
-                    // Round marks only (a disc, a ring, a symbol about as wide as tall, its ink
-                    // centred in its box): a shape that is not may be anything (a group of cells,
-                    // a piece of a map) and follows the map, as a linear resize would draw it.
-                    let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
-                    let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
-                        && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
-                    let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
-                        && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred));
-                    // Specks, text and what the canvas' edge cuts say nothing of a colour.
-                    if touches || in_text || bw.max(bh) < 3.0 {
-                        continue;
-                    }
-                    let grown = [
-                        bbox[0].saturating_sub(RIM_PX + 1),
-                        bbox[1].saturating_sub(RIM_PX + 1),
-                        bbox[2] + RIM_PX + 1,
-                        bbox[3] + RIM_PX + 1,
-                    ];
-                    // A blob a few cells across is a filled square at cell resolution, whatever
-                    // its shape: only a larger one can be told for a rectangle.
-                    let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
-                    // A bar or a cell follows the map (its length is data) and says nothing of
-                    // its colour's round marks: a dashboard draws a progress bar in the green
-                    // of its status dots.
-                    if rectangle && whole_canvas {
-                        continue;
-                    }
-                    if !round
-                        || bw.max(bh) > max_side
-                        || rectangle
-                        || (whole_canvas && !stands_alone(src, grown, colour))
-                    {
-                        if whole_canvas {
-                            spoiled[pass_pale as usize].push(colour);
-                        }
-                        continue;
-                    }
-                    let centre = DVec2::new(
-                        (bbox[0] + bbox[2]) as f64 / 2.0,
-                        (bbox[1] + bbox[3]) as f64 / 2.0,
-                    );
-                    out.push((
-                        Mark {
-                            center: centre,
-                            ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
-                            bbox,
-                            pixels: (cells as f64 * s * s) as u32,
-                        },
-                        k,
-                        colour,
-                    ));
+                    BlobKind::Spoils | BlobKind::Mute => {}
                 }
             }
         }
-        if whole_canvas {
-            let mut i = 0;
-            out.retain(|m: &(Mark, usize, [u8; 3])| {
-                i += 1;
-                let by = |k: &Vec<[u8; 3]>| k.iter().any(|&c| same_colour(c, m.2));
-                i <= first || !(by(&spoiled[0]) || (i > first_pale && by(&spoiled[1])))
-            });
+        if cells.whole_canvas {
+            drop_spoiled(out, first, first_pale, &spoiled);
         }
     }
-    out
+
+    /// Fills the blob of `colour` (cells of importance `least` or more) from cell `start`,
+    /// and tells what it is.
+    fn blob_at(&mut self, start: usize, least: f32, colour: [u8; 3], area: &AreaCells) -> BlobKind {
+        let (src, s, gw, imp) = (self.src, self.s, self.gw, self.imp);
+        let same =
+            |j: usize| imp[j] >= least && same_colour(cell_colour(src, s, j % gw, j / gw), colour);
+        let blob = flood(
+            start,
+            gw,
+            area.window,
+            &mut self.seen,
+            &mut self.stack,
+            same,
+        );
+        let [x0, y0, x1, y1] = blob.cells;
+        let [c0, r0, c1, r1] = area.window;
+        let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
+        let bbox = ink_box(
+            src,
+            [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
+            colour,
+            s.ceil() as u32 + RIM_PX,
+        );
+        let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
+        let fill = blob.count as f64 / ((x1 - x0) * (y1 - y0)) as f64;
+        let in_text = self
+            .text
+            .iter()
+            .any(|t| (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0));
+        // Specks, text and what the canvas' edge cuts say nothing of a colour.
+        if touches || in_text || bw.max(bh) < 3.0 {
+            return BlobKind::Mute;
+        }
+        let grown = [
+            bbox[0].saturating_sub(RIM_PX + 1),
+            bbox[1].saturating_sub(RIM_PX + 1),
+            bbox[2] + RIM_PX + 1,
+            bbox[3] + RIM_PX + 1,
+        ];
+        // A blob a few cells across is a filled square at cell resolution, whatever its
+        // shape: only a larger one can be told for a rectangle.
+        let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
+        let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
+        // A bar or a cell follows the map (its length is data) and says nothing of its
+        // colour's round marks: a dashboard draws a progress bar in the green of its status
+        // dots.
+        if rectangle && area.whole_canvas {
+            return BlobKind::Mute;
+        }
+        if !is_round(&blob, fill)
+            || bw.max(bh) > area.max_side
+            || rectangle
+            || (area.whole_canvas && !stands_alone(src, grown, colour))
+        {
+            return BlobKind::Spoils;
+        }
+        let centre = DVec2::new(
+            (bbox[0] + bbox[2]) as f64 / 2.0,
+            (bbox[1] + bbox[3]) as f64 / 2.0,
+        );
+        BlobKind::Mark(Mark {
+            center: centre,
+            ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
+            bbox,
+            pixels: (blob.count as f64 * s * s) as u32,
+        })
+    }
+}
+
+/// Drops the marks of `out` from `first` on whose colour is `spoiled` (`[0]`: by a blob of
+/// the strong pass; `[1]`: of the pale pass, which spoils only the pale marks, from
+/// `first_pale` on): on a whole canvas a colour's marks float all together or not at all.
+fn drop_spoiled(
+    out: &mut Vec<(Mark, usize, [u8; 3])>,
+    first: usize,
+    first_pale: usize,
+    spoiled: &[Vec<[u8; 3]>; 2],
+) {
+    let mut i = 0;
+    out.retain(|m: &(Mark, usize, [u8; 3])| {
+        i += 1;
+        let by = |k: &Vec<[u8; 3]>| k.iter().any(|&c| same_colour(c, m.2));
+        i <= first || !(by(&spoiled[0]) || (i > first_pale && by(&spoiled[1])))
+    });
+}
+
+/// Round marks only (a disc, a ring, a symbol about as wide as tall, its ink centred in its
+/// box): a shape that is not may be anything (a group of cells, a piece of a map) and follows
+/// the map, as a linear resize would draw it. `fill` is the share of its box the blob fills.
+fn is_round(blob: &Blob, fill: f64) -> bool {
+    let [x0, y0, x1, y1] = blob.cells;
+    let (mx, my) = blob.mean;
+    let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
+    let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
+        && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
+    cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
+        && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred))
 }
 
 /// Colours this close (RGB distance) are one mark's: antialiasing and a marker's own shading
