@@ -1319,100 +1319,13 @@ impl Floating {
         target: Size,
         place: impl Fn(usize, &Mark) -> Option<(DVec2, f64, u32, MaskKind)>,
     ) -> Floating {
-        let (w, h) = (src.width(), src.height());
-        let s = vsm.scale();
-        let gw = vsm.grid_size().width as usize;
-        let imp = vsm.importance();
         let mut pastes = Vec::with_capacity(marks.len());
         for (k, m) in marks.iter().enumerate() {
-            let Some((to, scale, rim, colour)) = place(k, m) else {
+            let Some(placement) = place(k, m) else {
                 continue;
             };
-            let d = to - m.center;
-            if !(d.x.is_finite() && d.y.is_finite() && scale > 0.0 && scale.is_finite()) {
-                continue;
-            }
-            let [bx0, by0, bx1, by1] = m.bbox;
-            let rect = [
-                bx0.saturating_sub(rim),
-                by0.saturating_sub(rim),
-                (bx1 + rim).min(w),
-                (by1 + rim).min(h),
-            ];
-            let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
-            if rw == 0 || rh == 0 {
-                continue;
-            }
-            let core: Vec<bool> = (0..rw * rh)
-                .map(|i| {
-                    let (x, y) = (rect[0] + (i % rw) as u32, rect[1] + (i / rw) as u32);
-                    let salient = imp[(y / s) as usize * gw + (x / s) as usize] >= RIM_IMPORTANCE;
-                    match colour {
-                        MaskKind::Colour(c) => {
-                            let p = src.get(x, y);
-                            salient && same_colour([p[0], p[1], p[2]], c)
-                        }
-                        MaskKind::Salient => salient,
-                        MaskKind::Whole => true,
-                    }
-                })
-                .collect();
-            let r2 = m.ring_radius * m.ring_radius;
-            let mask: Vec<bool> = (0..rw * rh)
-                .map(|i| {
-                    let (x, y) = (i % rw, i / rw);
-                    let p = DVec2::new(
-                        (rect[0] as usize + x) as f64 + 0.5,
-                        (rect[1] as usize + y) as f64 + 0.5,
-                    );
-                    if p.distance_squared(m.center) > r2 {
-                        return false;
-                    }
-                    let near = |dx: i64, dy: i64| {
-                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                        nx >= 0
-                            && ny >= 0
-                            && (nx as usize) < rw
-                            && (ny as usize) < rh
-                            && core[ny as usize * rw + nx as usize]
-                    };
-                    (-1..=1).any(|dy| (-1..=1).any(|dx| near(dx, dy)))
-                })
-                .collect();
-            if mask.iter().any(|&b| b) {
-                // A mark carried to the canvas's edge is pushed back inside it whole (the
-                // warp squeezes the border, a mark drawn at its own size would be clipped).
-                let keep_inside = |d: f64, lo: u32, hi: u32, side: u32| {
-                    let d = d.round() as i64;
-                    let (lo, hi, side) = (lo as i64, hi as i64, side as i64);
-                    if hi - lo > side {
-                        d
-                    } else {
-                        d.clamp(-lo, side - hi)
-                    }
-                };
-                let offset = (
-                    keep_inside(d.x, bx0, bx1, target.width),
-                    keep_inside(d.y, by0, by1, target.height),
-                );
-                let scaled = ((scale - 1.0).abs() > 1e-9).then_some(Scaled {
-                    from: m.center,
-                    to,
-                    scale,
-                });
-                let disc = match (colour, &scaled) {
-                    (MaskKind::Colour(c), Some(sc)) => {
-                        Disc::of(src, rect, c).filter(|d| d.radius * sc.scale <= DISC_MAX_RADIUS_PX)
-                    }
-                    _ => None,
-                };
-                pastes.push(Paste {
-                    rect,
-                    mask,
-                    offset,
-                    scaled,
-                    disc,
-                });
+            if let Some(p) = Paste::new(src, vsm, m, target, placement) {
+                pastes.push(p);
             }
         }
         Floating { pastes }
@@ -1505,6 +1418,58 @@ impl Floating {
 }
 
 impl Paste {
+    /// The paste of mark `m` placed at output centre `to` and `scale`, its rim looked for
+    /// `rim` pixels beyond its box, its pixels those of `kind`; `None` for a placement that
+    /// is no number, or a mark with no pixel.
+    fn new(
+        src: &Image,
+        vsm: &Vsm,
+        m: &Mark,
+        target: Size,
+        (to, scale, rim, kind): (DVec2, f64, u32, MaskKind),
+    ) -> Option<Paste> {
+        let d = to - m.center;
+        if !(d.x.is_finite() && d.y.is_finite() && scale > 0.0 && scale.is_finite()) {
+            return None;
+        }
+        let [bx0, by0, bx1, by1] = m.bbox;
+        let rect = [
+            bx0.saturating_sub(rim),
+            by0.saturating_sub(rim),
+            (bx1 + rim).min(src.width()),
+            (by1 + rim).min(src.height()),
+        ];
+        if rect[2] - rect[0] == 0 || rect[3] - rect[1] == 0 {
+            return None;
+        }
+        let mask = grow_within_ring(&core_mask(src, vsm, rect, kind), rect, m);
+        if !mask.iter().any(|&b| b) {
+            return None;
+        }
+        let offset = (
+            keep_inside(d.x, bx0, bx1, target.width),
+            keep_inside(d.y, by0, by1, target.height),
+        );
+        let scaled = ((scale - 1.0).abs() > 1e-9).then_some(Scaled {
+            from: m.center,
+            to,
+            scale,
+        });
+        let disc = match (kind, &scaled) {
+            (MaskKind::Colour(c), Some(sc)) => {
+                Disc::of(src, rect, c).filter(|d| d.radius * sc.scale <= DISC_MAX_RADIUS_PX)
+            }
+            _ => None,
+        };
+        Some(Paste {
+            rect,
+            mask,
+            offset,
+            scaled,
+            disc,
+        })
+    }
+
     /// The output pixels `[x0, y0, x1, y1)` a scaled mark may cover.
     fn scaled_rect(&self) -> [i64; 4] {
         let Some(sc) = self.scaled else {
@@ -1587,6 +1552,72 @@ impl Paste {
                     self.rect[0] as usize + i % rw,
                 )
             })
+    }
+}
+
+/// The pixels of `rect` (row by row) that belong to a mark of `kind`, before its rim:
+/// salient enough to be part of it ([`RIM_IMPORTANCE`]), and of its colour for a
+/// [`MaskKind::Colour`] mark.
+fn core_mask(src: &Image, vsm: &Vsm, rect: [u32; 4], kind: MaskKind) -> Vec<bool> {
+    let s = vsm.scale();
+    let gw = vsm.grid_size().width as usize;
+    let imp = vsm.importance();
+    let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
+    (0..rw * rh)
+        .map(|i| {
+            let (x, y) = (rect[0] + (i % rw) as u32, rect[1] + (i / rw) as u32);
+            let salient = imp[(y / s) as usize * gw + (x / s) as usize] >= RIM_IMPORTANCE;
+            match kind {
+                MaskKind::Colour(c) => {
+                    let p = src.get(x, y);
+                    salient && same_colour([p[0], p[1], p[2]], c)
+                }
+                MaskKind::Salient => salient,
+                MaskKind::Whole => true,
+            }
+        })
+        .collect()
+}
+
+/// `core` grown by one pixel (8-connected), within mark `m`'s ring: the antialiased rim goes
+/// with the mark, what lies beyond its ring (a neighbour's ink) stays.
+fn grow_within_ring(core: &[bool], rect: [u32; 4], m: &Mark) -> Vec<bool> {
+    let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
+    let r2 = m.ring_radius * m.ring_radius;
+    (0..rw * rh)
+        .map(|i| {
+            let (x, y) = (i % rw, i / rw);
+            let p = DVec2::new(
+                (rect[0] as usize + x) as f64 + 0.5,
+                (rect[1] as usize + y) as f64 + 0.5,
+            );
+            if p.distance_squared(m.center) > r2 {
+                return false;
+            }
+            let near = |dx: i64, dy: i64| {
+                let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                nx >= 0
+                    && ny >= 0
+                    && (nx as usize) < rw
+                    && (ny as usize) < rh
+                    && core[ny as usize * rw + nx as usize]
+            };
+            (-1..=1).any(|dy| (-1..=1).any(|dx| near(dx, dy)))
+        })
+        .collect()
+}
+
+/// The whole-pixel shift of a mark spanning `[lo, hi)` on a side of the canvas `side` long,
+/// for a wanted shift `d`: a mark carried to the canvas's edge is pushed back inside it whole
+/// (the warp squeezes the border, a mark drawn at its own size would be clipped), unless it is
+/// larger than the canvas.
+fn keep_inside(d: f64, lo: u32, hi: u32, side: u32) -> i64 {
+    let d = d.round() as i64;
+    let (lo, hi, side) = (lo as i64, hi as i64, side as i64);
+    if hi - lo > side {
+        d
+    } else {
+        d.clamp(-lo, side - hi)
     }
 }
 
