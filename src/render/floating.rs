@@ -544,7 +544,7 @@ const SAME_TYPE_SIZE: f64 = 0.25;
 /// ticks, a dashboard's panel titles) or one row (an x axis' ticks) of the same type size in
 /// one area take the smallest scale any of them could float at, and follow the map together
 /// where one of them cannot float, since labels of two sizes read as two kinds of thing
-/// (blind judges named mixed sizes the most common defect after tearing). Shrinking a block
+/// (after tearing, the most visible defect). Shrinking a block
 /// about its anchor keeps it inside the box it had, so no new overlap appears.
 fn share_scale(
     text: &[TextBlock],
