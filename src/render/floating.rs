@@ -507,7 +507,8 @@ fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
         // Both edges aligned (labels of one width): the side facing what they name, the
         // nearer ink, stays put.
         (left, right) if left == right => {
-            if ground_run(src, t, ground, 1) < ground_run(src, t, ground, -1) {
+            let ink_nearer_right = ground_run(src, t, ground, 1) < ground_run(src, t, ground, -1);
+            if ink_nearer_right {
                 1.0
             } else {
                 0.0

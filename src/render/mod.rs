@@ -608,18 +608,14 @@ fn overlay_thin_lines(src: ImageRef<'_>, mesh: &Mesh, warp: &Warp, dst: &mut Ima
     }
 }
 
-/// The vertices of thin line `k` (horizontal or vertical), in order along it, each as
-/// `(source along, output along, output across)`, and the output position across the line
-/// they share; `None`
-/// if fewer than two, or if they do not all lie on one line across (the solver's shared
-/// unknown): such a line is left to the warp.
-fn line_course(
-    mesh: &Mesh,
-    warp: &Warp,
-    horizontal: bool,
-    k: usize,
-) -> Option<(Vec<(f64, f64, f64)>, f64)> {
-    let mut pts: Vec<(f64, f64, f64)> = (mesh.roles().iter().enumerate())
+/// A thin line's vertices in order along it: (source along, output along, output across).
+type Course = Vec<(f64, f64, f64)>;
+
+/// The course of thin line `k` (horizontal or vertical) and the output position across the
+/// line its vertices share; `None` if it has fewer than two, or if they do not all lie on one
+/// line across (the solver's shared unknown): such a line is left to the warp.
+fn line_course(mesh: &Mesh, warp: &Warp, horizontal: bool, k: usize) -> Option<(Course, f64)> {
+    let mut pts: Course = (mesh.roles().iter().enumerate())
         .filter(|(_, r)| {
             if horizontal {
                 r.hline == Some(k as u32)
