@@ -1678,6 +1678,17 @@ mod tests {
     /// the disc it stands for and drawn as one: scaled by 0.7 it covers the output pixels
     /// alike on all four sides. A ring, or a dot with a line of a third colour through it, is
     /// no disc.
+    /// A mark carried past the canvas' edge is pushed back just inside it; one inside keeps
+    /// its rounded shift, and one wider than the canvas is not pushed at all.
+    #[test]
+    fn keep_inside_pushes_a_mark_back_inside_the_canvas() {
+        // A mark over [10, 20) on a side 100 long.
+        assert_eq!(keep_inside(-14.0, 10, 20, 100), -10);
+        assert_eq!(keep_inside(85.0, 10, 20, 100), 80);
+        assert_eq!(keep_inside(-3.4, 10, 20, 100), -3);
+        assert_eq!(keep_inside(-14.0, 10, 120, 100), -14);
+    }
+
     #[test]
     fn a_solid_dot_is_drawn_as_a_disc() {
         let ground = [240, 240, 240, 255];

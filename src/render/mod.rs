@@ -784,6 +784,27 @@ mod tests {
         img
     }
 
+    /// The inverse map takes each output corner to its source corner, and a triangle turned
+    /// over (clockwise on the output) has none.
+    #[test]
+    fn inverse_map_takes_output_corners_to_source_corners() {
+        let p = [
+            DVec2::new(3.0, 4.0),
+            DVec2::new(13.0, 5.0),
+            DVec2::new(4.0, 12.0),
+        ];
+        let q = [
+            DVec2::new(1.0, 2.0),
+            DVec2::new(7.5, 2.5),
+            DVec2::new(2.0, 9.0),
+        ];
+        let map = InverseMap::new(q, p).unwrap();
+        for (q, p) in q.iter().zip(&p) {
+            assert!(map.at(q.x, q.y).distance(*p) < 1e-9, "{q} -> {p}");
+        }
+        assert!(InverseMap::new([q[0], q[2], q[1]], p).is_none());
+    }
+
     #[test]
     fn identity_warp_reproduces_the_image() {
         let size = Size::new(61, 37).unwrap();
