@@ -183,105 +183,285 @@ pub fn area_text_placements(
     maps: &[Option<[f64; 4]>],
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
-    let text = &st.text;
-    let grounds: Vec<([u8; 3], f64)> = text.iter().map(|t| box_ground(src, t)).collect();
+    let layout = TextLayout::new(src, st, maps, target);
+    let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
-    // Ink of two colours is not a word (a line through a marker, dots along an axis): such
-    // a block follows the map and has no say in how the text floats.
-    let words: Vec<bool> = (text.iter().zip(&grounds))
-        .map(|(t, g)| one_ink(src, t, g.0))
-        .collect();
-    // Anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge most of
-    // its blocks share: a y axis' "120" and "100" share their left edges by chance, all its
-    // labels their right.
-    let anchor = |i: usize| {
-        let t = &text[i];
-        if t.sideways {
-            return 0.5;
-        }
-        // Blocks aligned with `t` by an edge (above or below it).
-        let column = |edge: fn(&TextBlock) -> u32| {
-            text.iter()
-                .enumerate()
-                .filter(|&(j, o)| {
-                    j != i
-                        && !o.sideways
-                        && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
-                        && (o.y0 >= t.y1 || o.y1 <= t.y0)
-                })
-                .count()
-        };
-        match (column(|b| b.x0), column(|b| b.x1)) {
-            (0, 0) => 0.5,
-            // Both edges aligned (labels of one width): the side facing what they name, the
-            // nearer ink, stays put.
-            (left, right) if left == right => {
-                let gap = |dir: i64| {
-                    let (y, reach) = ((t.y0 + t.y1) / 2, 4 * t.line_height as i64);
-                    let start = if dir > 0 {
-                        t.x1 as i64
-                    } else {
-                        t.x0 as i64 - 1
-                    };
-                    (0..reach)
-                        .map(|k| start + dir * k)
-                        .take_while(|&x| x >= 0 && x < src.width() as i64)
-                        .take_while(|&x| {
-                            let p = src.get(x as u32, y.min(src.height() - 1));
-                            same_colour([p[0], p[1], p[2]], grounds[i].0)
-                        })
-                        .count()
-                };
-                if gap(1) < gap(-1) {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
-            (left, right) if right > left => 1.0,
-            _ => 0.0,
-        }
+    let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
+    let group = type_groups(text, &area_of, &scale);
+    let mut room = Room {
+        scale,
+        shift: vec![DVec2::ZERO; text.len()],
+        covered: vec![None; text.len()],
     };
-    // Found once: `placed` runs for every trial place and scale.
-    let anchors: Vec<f64> = (0..text.len()).map(anchor).collect();
-    let (tw, th) = (target.width as f64, target.height as f64);
-    // Output box of block i at scale s, moved by `shift[i]` (None: not in an area with a map).
-    let mut shift = vec![DVec2::ZERO; text.len()];
-    let placed = |i: usize, s: f64, d: DVec2| -> Option<[f64; 4]> {
-        let t = &text[i];
-        let [ax, bx, ay, by] = (*maps.get(area_of(t)?)?)?;
+    layout.make_room(&movers(text, &group), &mut room);
+    let Room {
+        mut scale, shift, ..
+    } = room;
+    share_scale(text, &area_of, &mut scale);
+    layout.all_or_none_on_canvas(&mut scale);
+    (0..text.len())
+        .map(|i| {
+            let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
+            let b = layout.placed(i, s, shift[i])?;
+            Some(TextPlacement {
+                centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
+                scale: s,
+            })
+        })
+        .collect()
+}
+
+/// Times the floating blocks step aside and shrink before they are left as they are.
+const MAKE_ROOM_ROUNDS: usize = 12;
+/// Factor a block in the way shrinks by in each round.
+const SHRINK_STEP: f64 = 0.9;
+
+/// What placing the text blocks of one frame reads, found once: `placed` runs for every
+/// trial place and scale.
+struct TextLayout<'a> {
+    src: &'a Image,
+    st: &'a crate::structure::Structure,
+    text: &'a [TextBlock],
+    maps: &'a [Option<[f64; 4]>],
+    /// Each block's ground colour and the share of its box's ring it takes ([`box_ground`]).
+    grounds: Vec<([u8; 3], f64)>,
+    /// Whether each block's ink is one colour ([`one_ink`]): ink of two colours is not a
+    /// word (a line through a marker, dots along an axis), so such a block follows the map
+    /// and has no say in how the text floats.
+    words: Vec<bool>,
+    /// Each block's anchor along x ([`anchor`]).
+    anchors: Vec<f64>,
+    /// The output canvas, which every block is kept inside.
+    size: (f64, f64),
+}
+
+/// Where the floating blocks stand while they make room for one another.
+struct Room {
+    /// Each block's scale (as [`TextLayout::float_scale`], then shrunk).
+    scale: Vec<Option<f64>>,
+    /// Each block's step aside from where its area's map puts it.
+    shift: Vec<DVec2>,
+    /// Whether each block at its scale and place covers ink, once looked at: it depends on
+    /// its own box alone, so it is looked at again only once the block has shrunk or moved.
+    covered: Vec<Option<bool>>,
+}
+
+/// A group of blocks that steps aside as one, and the unit steps it may take.
+struct Mover {
+    members: Vec<usize>,
+    moves: Vec<DVec2>,
+}
+
+impl<'a> TextLayout<'a> {
+    fn new(
+        src: &'a Image,
+        st: &'a crate::structure::Structure,
+        maps: &'a [Option<[f64; 4]>],
+        target: Size,
+    ) -> TextLayout<'a> {
+        let text = &st.text[..];
+        let grounds: Vec<([u8; 3], f64)> = text.iter().map(|t| box_ground(src, t)).collect();
+        let words = (text.iter().zip(&grounds))
+            .map(|(t, g)| one_ink(src, t, g.0))
+            .collect();
+        let anchors = (0..text.len())
+            .map(|i| anchor(src, text, grounds[i].0, i))
+            .collect();
+        TextLayout {
+            src,
+            st,
+            text,
+            maps,
+            grounds,
+            words,
+            anchors,
+            size: (target.width as f64, target.height as f64),
+        }
+    }
+
+    fn area_of(&self, t: &TextBlock) -> Option<usize> {
+        self.st.area_of(t)
+    }
+
+    /// Output box of block i at scale `s`, moved by `d` (None: not in an area with a map).
+    fn placed(&self, i: usize, s: f64, d: DVec2) -> Option<[f64; 4]> {
+        let t = &self.text[i];
+        let (tw, th) = self.size;
+        let [ax, bx, ay, by] = (*self.maps.get(self.area_of(t)?)?)?;
         let (x0, x1, y0, y1) = (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64);
-        let k = anchors[i];
+        let k = self.anchors[i];
         let ax_src = x0 + k * (x1 - x0);
         let (w, h) = (s * (x1 - x0), s * (y1 - y0));
         let left = (ax * ax_src + bx - k * w + d.x).clamp(0.0, (tw - w).max(0.0));
         let top = (ay * (y0 + y1) / 2.0 + by - h / 2.0 + d.y).clamp(0.0, (th - h).max(0.0));
         Some([left, top, left + w, top + h])
-    };
-    let mut scale: Vec<Option<f64>> = (0..text.len())
-        .map(|i| {
-            let t = &text[i];
-            // Only text on flat ground floats: its box, pasted whole, then hides nothing but
-            // its own squeezed copy. A block on a busy ground (a label on a map, in a treemap's
-            // cell, the crossing of a heat map's separators) follows the map, and so does
-            // every label of its size ([`share_scale`]).
-            if grounds[i].1 < FLAT_GROUND {
-                return Some(CANNOT_FLOAT);
+    }
+
+    /// The scale block i would float at before it makes room for others: the larger of its
+    /// area's two scales, at most 1; [`CANNOT_FLOAT`] on a busy ground, `None` if it is no
+    /// word or has no map.
+    fn float_scale(&self, i: usize) -> Option<f64> {
+        let t = &self.text[i];
+        // Only text on flat ground floats: its box, pasted whole, then hides nothing but
+        // its own squeezed copy. A block on a busy ground (a label on a map, in a treemap's
+        // cell, the crossing of a heat map's separators) follows the map, and so does
+        // every label of its size ([`share_scale`]).
+        if self.grounds[i].1 < FLAT_GROUND {
+            return Some(CANNOT_FLOAT);
+        }
+        if !self.words[i] {
+            return None;
+        }
+        let [ax, _, ay, _] = (*self.maps.get(self.area_of(t)?)?)?;
+        Some(ax.max(ay).min(1.0))
+    }
+
+    /// Whether block i drawn over `b` hides ink that is not text floating with it.
+    fn covers(&self, i: usize, b: [f64; 4], floating: &[&TextBlock]) -> bool {
+        let t = &self.text[i];
+        let (ground, area) = (self.grounds[i].0, self.area_of(t));
+        covers_ink(self.src, t, ground, b, self.maps, area, floating)
+    }
+
+    /// Whether block i over `bi` is in the way: it overlaps another block's box or covers
+    /// ink (cached in `covered`, see [`Room::covered`]).
+    fn in_the_way(
+        &self,
+        (i, bi): (usize, [f64; 4]),
+        boxes: &[Option<[f64; 4]>],
+        covered: &mut Option<bool>,
+        floating: &[&TextBlock],
+    ) -> bool {
+        clash(i, bi, boxes) || *covered.get_or_insert_with(|| self.covers(i, bi, floating))
+    }
+
+    /// Blocks in the way step aside, before any shrinks, to the nearest place that is clear:
+    /// blocks read alone first (a title, an axis title), then aligned rows across their line
+    /// and columns along theirs, each as one; those still in the way shrink, and again, for
+    /// at most [`MAKE_ROOM_ROUNDS`].
+    fn make_room(&self, movers: &[Mover], room: &mut Room) {
+        let text = self.text;
+        for _ in 0..MAKE_ROOM_ROUNDS {
+            let floating: Vec<&TextBlock> = (0..text.len())
+                .filter(|&j| room.scale[j].is_some_and(|s| s >= MIN_TEXT_FLOAT))
+                .map(|j| &text[j])
+                .collect();
+            let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
+                .map(|i| {
+                    room.scale[i]
+                        .filter(|&s| s > CANNOT_FLOAT)
+                        .and_then(|s| self.placed(i, s, room.shift[i]))
+                })
+                .collect();
+            for mover in movers {
+                self.step_aside(mover, room, &mut boxes, &floating);
             }
-            if !words[i] {
-                return None;
+            let shrink: Vec<bool> = boxes
+                .iter()
+                .enumerate()
+                .map(|(i, bi)| {
+                    bi.is_some_and(|bi| {
+                        self.in_the_way((i, bi), &boxes, &mut room.covered[i], &floating)
+                    })
+                })
+                .collect();
+            if !shrink.contains(&true) {
+                break;
             }
-            let [ax, _, ay, _] = (*maps.get(area_of(t)?)?)?;
-            Some(ax.max(ay).min(1.0))
-        })
-        .collect();
-    let group = type_groups(text, &area_of, &scale);
-    // Each group that may move, with the directions it may move in: a block alone any way,
-    // a row (an x axis' ticks) across its line, a column (a y axis' ticks) along its lines,
-    // so that no label slides off the tick it names; blocks read alone first.
-    let mut movers: Vec<(Vec<usize>, Vec<DVec2>)> = Vec::new();
+            for ((s, c), &k) in room.scale.iter_mut().zip(&mut room.covered).zip(&shrink) {
+                if k {
+                    *s = s.map(|v| v * SHRINK_STEP);
+                    *c = None;
+                }
+            }
+        }
+    }
+
+    /// Moves `mover`'s blocks, if any is in the way, by the shortest of its steps (up to
+    /// [`NUDGE_LINES`] line heights) that leaves them all clear, in `room` and in `boxes`.
+    fn step_aside(
+        &self,
+        Mover { members, moves }: &Mover,
+        room: &mut Room,
+        boxes: &mut [Option<[f64; 4]>],
+        floating: &[&TextBlock],
+    ) {
+        let conflict = members.iter().any(|&i| {
+            boxes[i]
+                .is_some_and(|bi| self.in_the_way((i, bi), boxes, &mut room.covered[i], floating))
+        });
+        if !conflict || members.iter().any(|&i| boxes[i].is_none()) {
+            return;
+        }
+        let (scale, shift) = (&room.scale, &mut room.shift);
+        let reach = (members.iter())
+            .map(|&i| NUDGE_LINES * scale[i].unwrap_or(0.0) * self.text[i].line_height as f64)
+            .fold(f64::INFINITY, f64::min);
+        let mut trial = boxes.to_vec();
+        let found = (1..=reach.floor() as i32)
+            .flat_map(|r| moves.iter().map(move |&m| m * r as f64))
+            .find(|&d| {
+                for &i in members {
+                    trial[i] = scale[i].and_then(|s| self.placed(i, s, shift[i] + d));
+                }
+                members.iter().all(|&i| {
+                    trial[i].is_some_and(|b| !clash(i, b, &trial) && !self.covers(i, b, floating))
+                })
+            });
+        if let Some(d) = found {
+            for &i in members {
+                shift[i] += d;
+                boxes[i] = trial[i];
+                room.covered[i] = Some(false);
+            }
+        }
+    }
+
+    /// On a canvas taken whole, the text floats all of it or none: a title at its size over
+    /// condensed labels reads worse than all of it condensed, and so do groups of blocks
+    /// floating on their own beside condensed ones.
+    fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) {
+        let text = self.text;
+        let on_canvas = |t: &TextBlock| {
+            (self.area_of(t))
+                .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
+        };
+        if (0..text.len()).any(|i| {
+            self.words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
+        }) {
+            for (i, s) in scale.iter_mut().enumerate() {
+                if on_canvas(&text[i]) {
+                    *s = None;
+                }
+            }
+        }
+    }
+}
+
+/// Boxes `a` and `b` lie closer than [`TEXT_GAP_PX`].
+fn overlap(a: [f64; 4], b: [f64; 4]) -> bool {
+    a[0] < b[2] + TEXT_GAP_PX
+        && b[0] < a[2] + TEXT_GAP_PX
+        && a[1] < b[3] + TEXT_GAP_PX
+        && b[1] < a[3] + TEXT_GAP_PX
+}
+
+/// Block i over `bi` lies too close to another block's box.
+fn clash(i: usize, bi: [f64; 4], boxes: &[Option<[f64; 4]>]) -> bool {
+    boxes
+        .iter()
+        .enumerate()
+        .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
+}
+
+/// Each group that may move, with the directions it may move in: a block alone any way, a
+/// row (an x axis' ticks) across its line, a column (a y axis' ticks) along its lines, so
+/// that no label slides off the tick it names; blocks read alone first.
+fn movers(text: &[TextBlock], group: &[usize]) -> Vec<Mover> {
+    let mut movers: Vec<Mover> = Vec::new();
     for g in (0..text.len()).filter(|&g| group[g] == g) {
-        let m: Vec<usize> = (0..text.len()).filter(|&i| group[i] == g).collect();
+        let members: Vec<usize> = (0..text.len()).filter(|&i| group[i] == g).collect();
+        let m = &members;
         let row = m
             .iter()
             .all(|&i| m.iter().all(|&j| text[i].y0 < text[j].y1));
@@ -296,122 +476,66 @@ pub fn area_text_placements(
             (false, false, true) => vec![left, right],
             _ => continue,
         };
-        movers.push((m, moves));
+        movers.push(Mover { members, moves });
     }
-    movers.sort_by_key(|(m, _)| m.len() > 1);
-    let overlap = |a: [f64; 4], b: [f64; 4]| {
-        a[0] < b[2] + TEXT_GAP_PX
-            && b[0] < a[2] + TEXT_GAP_PX
-            && a[1] < b[3] + TEXT_GAP_PX
-            && b[1] < a[3] + TEXT_GAP_PX
-    };
-    let clash = |i: usize, bi: [f64; 4], boxes: &[Option<[f64; 4]>]| {
-        boxes
-            .iter()
+    movers.sort_by_key(|m| m.members.len() > 1);
+    movers
+}
+
+/// Block i's anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge
+/// most of its blocks share: a y axis' "120" and "100" share their left edges by chance, all
+/// its labels their right.
+fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
+    let t = &text[i];
+    if t.sideways {
+        return 0.5;
+    }
+    // Blocks aligned with `t` by an edge (above or below it).
+    let column = |edge: fn(&TextBlock) -> u32| {
+        text.iter()
             .enumerate()
-            .any(|(j, bj)| i != j && bj.is_some_and(|bj| overlap(bi, bj)))
-    };
-    // Whether block i drawn over `b` hides ink that is not text floating with it.
-    let covers = |i: usize, b: [f64; 4], floating: &[&TextBlock]| {
-        let t = &text[i];
-        covers_ink(src, t, grounds[i].0, b, maps, area_of(t), floating)
-    };
-    // Whether block i at its present scale and place covers ink: it depends on its own box
-    // alone, so it is looked at again only once the block has shrunk or moved.
-    let mut covered: Vec<Option<bool>> = vec![None; text.len()];
-    for _ in 0..12 {
-        let floating: Vec<&TextBlock> = (0..text.len())
-            .filter(|&j| scale[j].is_some_and(|s| s >= MIN_TEXT_FLOAT))
-            .map(|j| &text[j])
-            .collect();
-        let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
-            .map(|i| {
-                scale[i]
-                    .filter(|&s| s > CANNOT_FLOAT)
-                    .and_then(|s| placed(i, s, shift[i]))
+            .filter(|&(j, o)| {
+                j != i
+                    && !o.sideways
+                    && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
+                    && (o.y0 >= t.y1 || o.y1 <= t.y0)
             })
-            .collect();
-        // Blocks in the way step aside, before any shrinks, to the nearest place that is
-        // clear: blocks read alone first (a title, an axis title), then aligned rows across
-        // their line and columns along theirs, each as one.
-        for (members, moves) in &movers {
-            let conflict = members.iter().any(|&i| {
-                boxes[i].is_some_and(|bi| {
-                    clash(i, bi, &boxes)
-                        || *covered[i].get_or_insert_with(|| covers(i, bi, &floating))
-                })
-            });
-            if !conflict || members.iter().any(|&i| boxes[i].is_none()) {
-                continue;
-            }
-            let reach = (members.iter())
-                .map(|&i| NUDGE_LINES * scale[i].unwrap_or(0.0) * text[i].line_height as f64)
-                .fold(f64::INFINITY, f64::min);
-            let mut trial = boxes.clone();
-            let found = (1..=reach.floor() as i32)
-                .flat_map(|r| moves.iter().map(move |&m| m * r as f64))
-                .find(|&d| {
-                    for &i in members {
-                        trial[i] = scale[i].and_then(|s| placed(i, s, shift[i] + d));
-                    }
-                    members.iter().all(|&i| {
-                        trial[i].is_some_and(|b| !clash(i, b, &trial) && !covers(i, b, &floating))
-                    })
-                });
-            if let Some(d) = found {
-                for &i in members {
-                    shift[i] += d;
-                    boxes[i] = trial[i];
-                    covered[i] = Some(false);
-                }
+            .count()
+    };
+    match (column(|b| b.x0), column(|b| b.x1)) {
+        (0, 0) => 0.5,
+        // Both edges aligned (labels of one width): the side facing what they name, the
+        // nearer ink, stays put.
+        (left, right) if left == right => {
+            let ink_nearer_right = ground_run(src, t, ground, 1) < ground_run(src, t, ground, -1);
+            if ink_nearer_right {
+                1.0
+            } else {
+                0.0
             }
         }
-        let shrink: Vec<bool> = boxes
-            .iter()
-            .enumerate()
-            .map(|(i, bi)| {
-                bi.is_some_and(|bi| {
-                    clash(i, bi, &boxes)
-                        || *covered[i].get_or_insert_with(|| covers(i, bi, &floating))
-                })
-            })
-            .collect();
-        if !shrink.contains(&true) {
-            break;
-        }
-        for ((s, c), &k) in scale.iter_mut().zip(&mut covered).zip(&shrink) {
-            if k {
-                *s = s.map(|v| v * 0.9);
-                *c = None;
-            }
-        }
+        (left, right) if right > left => 1.0,
+        _ => 0.0,
     }
-    share_scale(text, &area_of, &mut scale);
-    // On a canvas taken whole, the text floats all of it or none: judged blind, a title at
-    // its size over condensed labels read worse than all condensed (judged again with the
-    // blocks that step aside: groups floating on their own ranked last in 28 of 48 cases).
-    let on_canvas = |t: &TextBlock| {
-        area_of(t).is_some_and(|k| st.areas[k].kind == crate::structure::AreaKind::Canvas)
+}
+
+/// Pixels of `ground` from text block `t`'s side in direction `dir` (1 right, -1 left) along
+/// its middle row, up to 4 line heights: how far the nearest ink on that side lies.
+fn ground_run(src: &Image, t: &TextBlock, ground: [u8; 3], dir: i64) -> usize {
+    let (y, reach) = ((t.y0 + t.y1) / 2, 4 * t.line_height as i64);
+    let start = if dir > 0 {
+        t.x1 as i64
+    } else {
+        t.x0 as i64 - 1
     };
-    if (0..text.len())
-        .any(|i| words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT))
-    {
-        for (i, s) in scale.iter_mut().enumerate() {
-            if on_canvas(&text[i]) {
-                *s = None;
-            }
-        }
-    }
-    (0..text.len())
-        .map(|i| {
-            let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
-            let b = placed(i, s, shift[i])?;
-            Some(TextPlacement {
-                centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
-                scale: s,
-            })
+    (0..reach)
+        .map(|k| start + dir * k)
+        .take_while(|&x| x >= 0 && x < src.width() as i64)
+        .take_while(|&x| {
+            let p = src.get(x as u32, y.min(src.height() - 1));
+            same_colour([p[0], p[1], p[2]], ground)
         })
-        .collect()
+        .count()
 }
 
 /// Line heights this close (as a share of the larger) are one size of type.
@@ -421,7 +545,7 @@ const SAME_TYPE_SIZE: f64 = 0.25;
 /// ticks, a dashboard's panel titles) or one row (an x axis' ticks) of the same type size in
 /// one area take the smallest scale any of them could float at, and follow the map together
 /// where one of them cannot float, since labels of two sizes read as two kinds of thing
-/// (blind judges named mixed sizes the most common defect after tearing). Shrinking a block
+/// (after tearing, the most visible defect). Shrinking a block
 /// about its anchor keeps it inside the box it had, so no new overlap appears.
 fn share_scale(
     text: &[TextBlock],
@@ -690,44 +814,101 @@ pub(crate) fn area_marks(
     vsm: &Vsm,
     st: &crate::structure::Structure,
 ) -> Vec<(Mark, usize, [u8; 3])> {
-    let areas = &st.areas[..];
-    // Blocks of two inks are not words (dots along an axis): they shelter no mark.
-    let text: Vec<&TextBlock> = (st.text.iter())
-        .filter(|t| one_ink(src, t, box_ground(src, t).0))
-        .collect();
-    let s = vsm.scale() as f64;
     let grid = vsm.grid_size();
     let (gw, gh) = (grid.width as usize, grid.height as usize);
-    let imp = vsm.importance();
-    let mut seen = vec![false; gw * gh];
-    let mut stack: Vec<usize> = Vec::new();
+    let mut scan = MarkScan {
+        src,
+        // Blocks of two inks are not words (dots along an axis): they shelter no mark.
+        text: (st.text.iter())
+            .filter(|t| one_ink(src, t, box_ground(src, t).0))
+            .collect(),
+        s: vsm.scale() as f64,
+        gw,
+        gh,
+        imp: vsm.importance(),
+        seen: vec![false; gw * gh],
+        stack: Vec::new(),
+    };
     let mut out = Vec::new();
-    for (k, a) in areas.iter().enumerate() {
+    for (k, a) in st.areas.iter().enumerate() {
+        scan.area(k, a, &mut out);
+    }
+    out
+}
+
+/// The search for the data areas' marks: what it reads, and the blobs' flood fill's state,
+/// kept across areas (a cell is in one blob at most).
+struct MarkScan<'a> {
+    src: &'a Image,
+    /// Text blocks of one ink: a blob over one is a glyph, no mark.
+    text: Vec<&'a TextBlock>,
+    /// The importance map's cell size (source pixels), its size in cells, and its cells.
+    s: f64,
+    gw: usize,
+    gh: usize,
+    imp: &'a [f32],
+    seen: Vec<bool>,
+    stack: Vec<usize>,
+}
+
+/// One data area as its marks are looked for.
+struct AreaCells {
+    /// Cells `[c0, r0, c1, r1)` whose centre lies strictly inside the area.
+    window: [usize; 4],
+    /// Largest side of a mark ([`AREA_MARK_SHARE`] of the area's shorter side), pixels.
+    max_side: f64,
+    /// The area is a whole canvas taken as one ([`crate::structure::AreaKind::Canvas`]).
+    whole_canvas: bool,
+}
+
+/// What a blob of one colour is to [`area_marks`].
+enum BlobKind {
+    /// A round mark standing alone, which floats.
+    Mark(Mark),
+    /// Not a mark (a region, a line, a bar): its colour's marks on a whole canvas do not float.
+    Spoils,
+    /// Says nothing of its colour: a speck, a glyph, what the area's edge cuts, a bar or a
+    /// cell on a whole canvas.
+    Mute,
+}
+
+impl MarkScan<'_> {
+    /// Appends area `k`'s marks to `out`, each with `k` and its colour.
+    fn area(
+        &mut self,
+        k: usize,
+        a: &crate::structure::DataArea,
+        out: &mut Vec<(Mark, usize, [u8; 3])>,
+    ) {
+        let s = self.s;
         // A whole canvas taken as one area (`--regions affine`) may be a map or a graph,
-        // where a blob is as likely a region or a cluster as a mark: judged blind, pasting
-        // some of them round tore maps and left round marks beside squeezed ones, worse than
-        // a linear resize's uniform squeeze. There a colour's marks float all together or
+        // where a blob is as likely a region or a cluster as a mark: pasting some of them
+        // round tears maps and leaves round marks beside squeezed ones, worse than a linear
+        // resize's uniform squeeze. There a colour's marks float all together or
         // not at all: only if every blob of that colour is a round mark standing alone.
-        let whole_canvas = a.kind == crate::structure::AreaKind::Canvas;
+        let cells = AreaCells {
+            window: [
+                ((a.x0 / s).floor() as usize + 1).min(self.gw),
+                ((a.y0 / s).floor() as usize + 1).min(self.gh),
+                ((a.x1 / s).ceil() as usize).saturating_sub(1).min(self.gw),
+                ((a.y1 / s).ceil() as usize).saturating_sub(1).min(self.gh),
+            ],
+            max_side: AREA_MARK_SHARE * (a.x1 - a.x0).min(a.y1 - a.y0),
+            whole_canvas: a.kind == crate::structure::AreaKind::Canvas,
+        };
         let first = out.len();
         // Colours with a blob that is no round mark standing alone, from each pass: a pale
         // colour spoils only pale marks (colours near one another need not be near a third).
         let mut spoiled: [Vec<[u8; 3]>; 2] = Default::default();
         let mut first_pale = usize::MAX;
-        // Cells whose centre lies strictly inside the area.
-        let c0 = ((a.x0 / s).floor() as usize + 1).min(gw);
-        let c1 = ((a.x1 / s).ceil() as usize).saturating_sub(1).min(gw);
-        let r0 = ((a.y0 / s).floor() as usize + 1).min(gh);
-        let r1 = ((a.y1 / s).ceil() as usize).saturating_sub(1).min(gh);
-        let max_side = AREA_MARK_SHARE * (a.x1 - a.x0).min(a.y1 - a.y0);
         // Marks of strong colours first; then, of colours none of those has, pale marks on a
         // ground near the frame's mean (a cyan dot on a light sea). A strong colour's pale
         // shades (a bubble's translucent overlap, its antialiased rim) are its business.
         // Only on a canvas taken whole, where a colour floats all or none: in an area bounded
         // by axes a pale colour is as likely a strong mark's antialiased rim, floated alone.
-        let pale = (median_importance(imp, gw, [c0, r0, c1, r1]) + MARK_ABOVE_GROUND)
+        let pale = (median_importance(self.imp, self.gw, cells.window) + MARK_ABOVE_GROUND)
             .min(AREA_MARK_IMPORTANCE);
-        let passes = if whole_canvas && pale < AREA_MARK_IMPORTANCE {
+        let passes = if cells.whole_canvas && pale < AREA_MARK_IMPORTANCE {
             2
         } else {
             1
@@ -738,105 +919,130 @@ pub(crate) fn area_marks(
             if pass_pale {
                 first_pale = out.len();
             }
-            for r in r0..r1 {
-                for c in c0..c1 {
-                    let start = r * gw + c;
-                    if seen[start] || imp[start] < least {
-                        continue;
+            let ([c0, r0, c1, r1], gw) = (cells.window, self.gw);
+            for start in (r0..r1).flat_map(|r| (c0..c1).map(move |c| r * gw + c)) {
+                if self.seen[start] || self.imp[start] < least {
+                    continue;
+                }
+                // One colour: a line chart's markers stand apart from the line through them.
+                let colour = cell_colour(self.src, s, start % gw, start / gw);
+                if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
+                    continue;
+                }
+                if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
+                    strong.push(colour);
+                }
+                match self.blob_at(start, least, colour, &cells) {
+                    BlobKind::Mark(m) => out.push((m, k, colour)),
+                    BlobKind::Spoils if cells.whole_canvas => {
+                        spoiled[pass_pale as usize].push(colour)
                     }
-                    // One colour: a line chart's markers stand apart from the line through them.
-                    let colour = cell_colour(src, s, start % gw, start / gw);
-                    if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
-                        continue;
-                    }
-                    if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
-                        strong.push(colour);
-                    }
-                    let window = [c0, r0, c1, r1];
-                    let same = |j: usize| {
-                        imp[j] >= least && same_colour(cell_colour(src, s, j % gw, j / gw), colour)
-                    };
-                    let Blob {
-                        cells: [x0, y0, x1, y1],
-                        count: cells,
-                        mean: (mx, my),
-                    } = flood(start, gw, window, &mut seen, &mut stack, same);
-                    let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
-                    let bbox = ink_box(
-                        src,
-                        [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
-                        colour,
-                        s.ceil() as u32 + RIM_PX,
-                    );
-                    let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
-                    let fill = cells as f64 / ((x1 - x0) * (y1 - y0)) as f64;
-                    let in_text = text.iter().any(|t| {
-                        (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0)
-                    });
-                    // Round marks only (a disc, a ring, a symbol about as wide as tall, its ink
-                    // centred in its box): a shape that is not may be anything (a group of cells,
-                    // a piece of a map) and follows the map, as a linear resize would draw it.
-                    let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
-                    let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
-                        && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
-                    let round = cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
-                        && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred));
-                    // Specks, text and what the canvas' edge cuts say nothing of a colour.
-                    if touches || in_text || bw.max(bh) < 3.0 {
-                        continue;
-                    }
-                    let grown = [
-                        bbox[0].saturating_sub(RIM_PX + 1),
-                        bbox[1].saturating_sub(RIM_PX + 1),
-                        bbox[2] + RIM_PX + 1,
-                        bbox[3] + RIM_PX + 1,
-                    ];
-                    // A blob a few cells across is a filled square at cell resolution, whatever
-                    // its shape: only a larger one can be told for a rectangle.
-                    let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
-                    // A bar or a cell follows the map (its length is data) and says nothing of
-                    // its colour's round marks: a dashboard draws a progress bar in the green
-                    // of its status dots.
-                    if rectangle && whole_canvas {
-                        continue;
-                    }
-                    if !round
-                        || bw.max(bh) > max_side
-                        || rectangle
-                        || (whole_canvas && !stands_alone(src, grown, colour))
-                    {
-                        if whole_canvas {
-                            spoiled[pass_pale as usize].push(colour);
-                        }
-                        continue;
-                    }
-                    let centre = DVec2::new(
-                        (bbox[0] + bbox[2]) as f64 / 2.0,
-                        (bbox[1] + bbox[3]) as f64 / 2.0,
-                    );
-                    out.push((
-                        Mark {
-                            center: centre,
-                            ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
-                            bbox,
-                            pixels: (cells as f64 * s * s) as u32,
-                        },
-                        k,
-                        colour,
-                    ));
+                    BlobKind::Spoils | BlobKind::Mute => {}
                 }
             }
         }
-        if whole_canvas {
-            let mut i = 0;
-            out.retain(|m: &(Mark, usize, [u8; 3])| {
-                i += 1;
-                let by = |k: &Vec<[u8; 3]>| k.iter().any(|&c| same_colour(c, m.2));
-                i <= first || !(by(&spoiled[0]) || (i > first_pale && by(&spoiled[1])))
-            });
+        if cells.whole_canvas {
+            drop_spoiled(out, first, first_pale, &spoiled);
         }
     }
-    out
+
+    /// Fills the blob of `colour` (cells of importance `least` or more) from cell `start`,
+    /// and tells what it is.
+    fn blob_at(&mut self, start: usize, least: f32, colour: [u8; 3], area: &AreaCells) -> BlobKind {
+        let (src, s, gw, imp) = (self.src, self.s, self.gw, self.imp);
+        let same =
+            |j: usize| imp[j] >= least && same_colour(cell_colour(src, s, j % gw, j / gw), colour);
+        let blob = flood(
+            start,
+            gw,
+            area.window,
+            &mut self.seen,
+            &mut self.stack,
+            same,
+        );
+        let [x0, y0, x1, y1] = blob.cells;
+        let [c0, r0, c1, r1] = area.window;
+        let touches = x0 <= c0 || y0 <= r0 || x1 >= c1 || y1 >= r1;
+        let bbox = ink_box(
+            src,
+            [x0, y0, x1, y1].map(|v| (v as f64 * s) as u32),
+            colour,
+            s.ceil() as u32 + RIM_PX,
+        );
+        let (bw, bh) = ((bbox[2] - bbox[0]) as f64, (bbox[3] - bbox[1]) as f64);
+        let fill = blob.count as f64 / ((x1 - x0) * (y1 - y0)) as f64;
+        let in_text = self
+            .text
+            .iter()
+            .any(|t| (bbox[0] < t.x1 && bbox[2] > t.x0) && (bbox[1] < t.y1 && bbox[3] > t.y0));
+        // Specks, text and what the canvas' edge cuts say nothing of a colour.
+        if touches || in_text || bw.max(bh) < 3.0 {
+            return BlobKind::Mute;
+        }
+        let grown = [
+            bbox[0].saturating_sub(RIM_PX + 1),
+            bbox[1].saturating_sub(RIM_PX + 1),
+            bbox[2] + RIM_PX + 1,
+            bbox[3] + RIM_PX + 1,
+        ];
+        // A blob a few cells across is a filled square at cell resolution, whatever its
+        // shape: only a larger one can be told for a rectangle.
+        let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
+        let rectangle = fill > RECTANGLE_FILL && cw.max(ch) > SMALL_MARK_CELLS;
+        // A bar or a cell follows the map (its length is data) and says nothing of its
+        // colour's round marks: a dashboard draws a progress bar in the green of its status
+        // dots.
+        if rectangle && area.whole_canvas {
+            return BlobKind::Mute;
+        }
+        if !is_round(&blob, fill)
+            || bw.max(bh) > area.max_side
+            || rectangle
+            || (area.whole_canvas && !stands_alone(src, grown, colour))
+        {
+            return BlobKind::Spoils;
+        }
+        let centre = DVec2::new(
+            (bbox[0] + bbox[2]) as f64 / 2.0,
+            (bbox[1] + bbox[3]) as f64 / 2.0,
+        );
+        BlobKind::Mark(Mark {
+            center: centre,
+            ring_radius: 0.5 * (bw * bw + bh * bh).sqrt() + 1.5,
+            bbox,
+            pixels: (blob.count as f64 * s * s) as u32,
+        })
+    }
+}
+
+/// Drops the marks of `out` from `first` on whose colour is `spoiled` (`[0]`: by a blob of
+/// the strong pass; `[1]`: of the pale pass, which spoils only the pale marks, from
+/// `first_pale` on): on a whole canvas a colour's marks float all together or not at all.
+fn drop_spoiled(
+    out: &mut Vec<(Mark, usize, [u8; 3])>,
+    first: usize,
+    first_pale: usize,
+    spoiled: &[Vec<[u8; 3]>; 2],
+) {
+    let mut i = 0;
+    out.retain(|m: &(Mark, usize, [u8; 3])| {
+        i += 1;
+        let by = |k: &Vec<[u8; 3]>| k.iter().any(|&c| same_colour(c, m.2));
+        i <= first || !(by(&spoiled[0]) || (i > first_pale && by(&spoiled[1])))
+    });
+}
+
+/// Round marks only (a disc, a ring, a symbol about as wide as tall, its ink centred in its
+/// box): a shape that is not may be anything (a group of cells, a piece of a map) and follows
+/// the map, as a linear resize would draw it. `fill` is the share of its box the blob fills.
+fn is_round(blob: &Blob, fill: f64) -> bool {
+    let [x0, y0, x1, y1] = blob.cells;
+    let (mx, my) = blob.mean;
+    let (cw, ch) = ((x1 - x0) as f64, (y1 - y0) as f64);
+    let centred = (mx - (x0 + x1) as f64 / 2.0).abs() <= MARK_CENTRED * cw
+        && (my - (y0 + y1) as f64 / 2.0).abs() <= MARK_CENTRED * ch;
+    cw.max(ch) <= MAX_MARK_ASPECT * cw.min(ch)
+        && (cw.max(ch) <= SMALL_MARK_CELLS || (fill >= MIN_MARK_FILL && centred))
 }
 
 /// Colours this close (RGB distance) are one mark's: antialiasing and a marker's own shading
@@ -1114,100 +1320,13 @@ impl Floating {
         target: Size,
         place: impl Fn(usize, &Mark) -> Option<(DVec2, f64, u32, MaskKind)>,
     ) -> Floating {
-        let (w, h) = (src.width(), src.height());
-        let s = vsm.scale();
-        let gw = vsm.grid_size().width as usize;
-        let imp = vsm.importance();
         let mut pastes = Vec::with_capacity(marks.len());
         for (k, m) in marks.iter().enumerate() {
-            let Some((to, scale, rim, colour)) = place(k, m) else {
+            let Some(placement) = place(k, m) else {
                 continue;
             };
-            let d = to - m.center;
-            if !(d.x.is_finite() && d.y.is_finite() && scale > 0.0 && scale.is_finite()) {
-                continue;
-            }
-            let [bx0, by0, bx1, by1] = m.bbox;
-            let rect = [
-                bx0.saturating_sub(rim),
-                by0.saturating_sub(rim),
-                (bx1 + rim).min(w),
-                (by1 + rim).min(h),
-            ];
-            let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
-            if rw == 0 || rh == 0 {
-                continue;
-            }
-            let core: Vec<bool> = (0..rw * rh)
-                .map(|i| {
-                    let (x, y) = (rect[0] + (i % rw) as u32, rect[1] + (i / rw) as u32);
-                    let salient = imp[(y / s) as usize * gw + (x / s) as usize] >= RIM_IMPORTANCE;
-                    match colour {
-                        MaskKind::Colour(c) => {
-                            let p = src.get(x, y);
-                            salient && same_colour([p[0], p[1], p[2]], c)
-                        }
-                        MaskKind::Salient => salient,
-                        MaskKind::Whole => true,
-                    }
-                })
-                .collect();
-            let r2 = m.ring_radius * m.ring_radius;
-            let mask: Vec<bool> = (0..rw * rh)
-                .map(|i| {
-                    let (x, y) = (i % rw, i / rw);
-                    let p = DVec2::new(
-                        (rect[0] as usize + x) as f64 + 0.5,
-                        (rect[1] as usize + y) as f64 + 0.5,
-                    );
-                    if p.distance_squared(m.center) > r2 {
-                        return false;
-                    }
-                    let near = |dx: i64, dy: i64| {
-                        let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                        nx >= 0
-                            && ny >= 0
-                            && (nx as usize) < rw
-                            && (ny as usize) < rh
-                            && core[ny as usize * rw + nx as usize]
-                    };
-                    (-1..=1).any(|dy| (-1..=1).any(|dx| near(dx, dy)))
-                })
-                .collect();
-            if mask.iter().any(|&b| b) {
-                // A mark carried to the canvas's edge is pushed back inside it whole (the
-                // warp squeezes the border, a mark drawn at its own size would be clipped).
-                let keep_inside = |d: f64, lo: u32, hi: u32, side: u32| {
-                    let d = d.round() as i64;
-                    let (lo, hi, side) = (lo as i64, hi as i64, side as i64);
-                    if hi - lo > side {
-                        d
-                    } else {
-                        d.clamp(-lo, side - hi)
-                    }
-                };
-                let offset = (
-                    keep_inside(d.x, bx0, bx1, target.width),
-                    keep_inside(d.y, by0, by1, target.height),
-                );
-                let scaled = ((scale - 1.0).abs() > 1e-9).then_some(Scaled {
-                    from: m.center,
-                    to,
-                    scale,
-                });
-                let disc = match (colour, &scaled) {
-                    (MaskKind::Colour(c), Some(sc)) => {
-                        Disc::of(src, rect, c).filter(|d| d.radius * sc.scale <= DISC_MAX_RADIUS_PX)
-                    }
-                    _ => None,
-                };
-                pastes.push(Paste {
-                    rect,
-                    mask,
-                    offset,
-                    scaled,
-                    disc,
-                });
+            if let Some(p) = Paste::new(src, vsm, m, target, placement) {
+                pastes.push(p);
             }
         }
         Floating { pastes }
@@ -1300,6 +1419,58 @@ impl Floating {
 }
 
 impl Paste {
+    /// The paste of mark `m` placed at output centre `to` and `scale`, its rim looked for
+    /// `rim` pixels beyond its box, its pixels those of `kind`; `None` for a placement that
+    /// is no number, or a mark with no pixel.
+    fn new(
+        src: &Image,
+        vsm: &Vsm,
+        m: &Mark,
+        target: Size,
+        (to, scale, rim, kind): (DVec2, f64, u32, MaskKind),
+    ) -> Option<Paste> {
+        let d = to - m.center;
+        if !(d.x.is_finite() && d.y.is_finite() && scale > 0.0 && scale.is_finite()) {
+            return None;
+        }
+        let [bx0, by0, bx1, by1] = m.bbox;
+        let rect = [
+            bx0.saturating_sub(rim),
+            by0.saturating_sub(rim),
+            (bx1 + rim).min(src.width()),
+            (by1 + rim).min(src.height()),
+        ];
+        if rect[2] - rect[0] == 0 || rect[3] - rect[1] == 0 {
+            return None;
+        }
+        let mask = grow_within_ring(&core_mask(src, vsm, rect, kind), rect, m);
+        if !mask.iter().any(|&b| b) {
+            return None;
+        }
+        let offset = (
+            keep_inside(d.x, bx0, bx1, target.width),
+            keep_inside(d.y, by0, by1, target.height),
+        );
+        let scaled = ((scale - 1.0).abs() > 1e-9).then_some(Scaled {
+            from: m.center,
+            to,
+            scale,
+        });
+        let disc = match (kind, &scaled) {
+            (MaskKind::Colour(c), Some(sc)) => {
+                Disc::of(src, rect, c).filter(|d| d.radius * sc.scale <= DISC_MAX_RADIUS_PX)
+            }
+            _ => None,
+        };
+        Some(Paste {
+            rect,
+            mask,
+            offset,
+            scaled,
+            disc,
+        })
+    }
+
     /// The output pixels `[x0, y0, x1, y1)` a scaled mark may cover.
     fn scaled_rect(&self) -> [i64; 4] {
         let Some(sc) = self.scaled else {
@@ -1385,6 +1556,72 @@ impl Paste {
     }
 }
 
+/// The pixels of `rect` (row by row) that belong to a mark of `kind`, before its rim:
+/// salient enough to be part of it ([`RIM_IMPORTANCE`]), and of its colour for a
+/// [`MaskKind::Colour`] mark.
+fn core_mask(src: &Image, vsm: &Vsm, rect: [u32; 4], kind: MaskKind) -> Vec<bool> {
+    let s = vsm.scale();
+    let gw = vsm.grid_size().width as usize;
+    let imp = vsm.importance();
+    let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
+    (0..rw * rh)
+        .map(|i| {
+            let (x, y) = (rect[0] + (i % rw) as u32, rect[1] + (i / rw) as u32);
+            let salient = imp[(y / s) as usize * gw + (x / s) as usize] >= RIM_IMPORTANCE;
+            match kind {
+                MaskKind::Colour(c) => {
+                    let p = src.get(x, y);
+                    salient && same_colour([p[0], p[1], p[2]], c)
+                }
+                MaskKind::Salient => salient,
+                MaskKind::Whole => true,
+            }
+        })
+        .collect()
+}
+
+/// `core` grown by one pixel (8-connected), within mark `m`'s ring: the antialiased rim goes
+/// with the mark, what lies beyond its ring (a neighbour's ink) stays.
+fn grow_within_ring(core: &[bool], rect: [u32; 4], m: &Mark) -> Vec<bool> {
+    let (rw, rh) = ((rect[2] - rect[0]) as usize, (rect[3] - rect[1]) as usize);
+    let r2 = m.ring_radius * m.ring_radius;
+    (0..rw * rh)
+        .map(|i| {
+            let (x, y) = (i % rw, i / rw);
+            let p = DVec2::new(
+                (rect[0] as usize + x) as f64 + 0.5,
+                (rect[1] as usize + y) as f64 + 0.5,
+            );
+            if p.distance_squared(m.center) > r2 {
+                return false;
+            }
+            let near = |dx: i64, dy: i64| {
+                let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+                nx >= 0
+                    && ny >= 0
+                    && (nx as usize) < rw
+                    && (ny as usize) < rh
+                    && core[ny as usize * rw + nx as usize]
+            };
+            (-1..=1).any(|dy| (-1..=1).any(|dx| near(dx, dy)))
+        })
+        .collect()
+}
+
+/// The whole-pixel shift of a mark spanning `[lo, hi)` on a side of the canvas `side` long,
+/// for a wanted shift `d`: a mark carried to the canvas's edge is pushed back inside it whole
+/// (the warp squeezes the border, a mark drawn at its own size would be clipped), unless it is
+/// larger than the canvas.
+fn keep_inside(d: f64, lo: u32, hi: u32, side: u32) -> i64 {
+    let d = d.round() as i64;
+    let (lo, hi, side) = (lo as i64, hi as i64, side as i64);
+    if hi - lo > side {
+        d
+    } else {
+        d.clamp(-lo, side - hi)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1441,6 +1678,17 @@ mod tests {
     /// the disc it stands for and drawn as one: scaled by 0.7 it covers the output pixels
     /// alike on all four sides. A ring, or a dot with a line of a third colour through it, is
     /// no disc.
+    /// A mark carried past the canvas' edge is pushed back just inside it; one inside keeps
+    /// its rounded shift, and one wider than the canvas is not pushed at all.
+    #[test]
+    fn keep_inside_pushes_a_mark_back_inside_the_canvas() {
+        // A mark over [10, 20) on a side 100 long.
+        assert_eq!(keep_inside(-14.0, 10, 20, 100), -10);
+        assert_eq!(keep_inside(85.0, 10, 20, 100), 80);
+        assert_eq!(keep_inside(-3.4, 10, 20, 100), -3);
+        assert_eq!(keep_inside(-14.0, 10, 120, 100), -14);
+    }
+
     #[test]
     fn a_solid_dot_is_drawn_as_a_disc() {
         let ground = [240, 240, 240, 255];

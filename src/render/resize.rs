@@ -1,8 +1,7 @@
 //! A plain linear resize, separable Catmull-Rom (ImageMagick's `-filter Catrom -resize`): the
 //! render of a canvas under one linear map. Against the crate's triangle renderer over two
 //! triangles (bilinear, box-filtered where it shrinks), it keeps a heat map's 2-px separators
-//! and small type apart (seeds 7, 11 and 12 of make_charts: all 42 charts kept true against
-//! 41, OCR share 0.55 against 0.46), and it draws what a reader compares it with.
+//! and small type apart, and it draws what a reader compares it with.
 //!
 //! Catmull-Rom's negative lobes overshoot at edges (a ring of lighter or darker pixels, a
 //! colour the picture does not hold): each sample is clamped to the range of the source

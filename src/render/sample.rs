@@ -1,9 +1,8 @@
 //! Pixel sampling kernels: bilinear where a region is magnified; where it is minified, a
 //! filter stretched over the pixel's footprint ([`Filter`]): Catmull-Rom (PIL's and
 //! ImageMagick's antialiased bicubic) for what is read, the exact area for the rest. 1-px lines
-//! fade to grey instead of aliasing away, and text shrunk to 0.7 stays sharp enough to read:
-//! the real stills scaled by 0.7 kept 0.56 of the words OCR reads with the earlier box of
-//! bilinear taps over a halved ripmap level, 0.64 with Catmull-Rom, as with PIL's bicubic.
+//! fade to grey instead of aliasing away, and text shrunk to 0.7 stays sharp enough to read
+//! (as with PIL's bicubic; a box of bilinear taps over a halved ripmap level blurs it).
 //!
 //! Bilinear samples of opaque sources (nearly every visualization) take an integer path: 8-bit
 //! sub-pixel weights, three channels, no alpha arithmetic. The filters, and sources with
