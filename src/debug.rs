@@ -286,7 +286,7 @@ fn text_out_json(input: &Image, mesh: &Mesh, warp: &Warp) -> serde_json::Value {
         .collect()
 }
 
-/// Writes into `dir` what another method has of [`write`]'s pictures: the saliency map and its levels
+/// Writes into `dir` what another method has of [`write()`]'s pictures: the saliency map and its levels
 /// (all but linear), the mesh before and after (grid).
 pub fn write_method(dir: &Path, input: &Image, out: &MethodOutput) -> Result<(), Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;

@@ -80,7 +80,7 @@ pub struct EnhanceMask {
 }
 
 impl EnhanceMask {
-    /// The mask of `image` with white meaning `max_factor` (in [`FACTOR_RANGE`]).
+    /// The mask of `image` with white meaning `max_factor` (in [`Enhancement::FACTOR_RANGE`]).
     pub fn from_image(image: &Image, max_factor: f64) -> Result<EnhanceMask, Error> {
         check_factor("the mask's factor", max_factor)?;
         let factors = image
@@ -124,7 +124,7 @@ fn check_factor(what: &str, f: f64) -> Result<(), Error> {
 }
 
 impl Enhancement {
-    /// The factors a level or region may take: [`FACTOR_RANGE`].
+    /// The factors a level or region may take: 0.25 to 4, a quarter to four times its size.
     pub const FACTOR_RANGE: (f64, f64) = FACTOR_RANGE;
 
     /// Whether this changes nothing (every factor 1, no mask).
@@ -134,7 +134,7 @@ impl Enhancement {
             && self.mask.is_none()
     }
 
-    /// Checks every factor (in [`FACTOR_RANGE`]) and region (finite, positive size).
+    /// Checks every factor (in [`Enhancement::FACTOR_RANGE`]) and region (finite, positive size).
     pub fn validate(&self) -> Result<(), Error> {
         for (k, &d) in self.per_level.iter().enumerate() {
             check_factor(&format!("enhancement of saliency level {}", k + 1), d)?;

@@ -47,10 +47,6 @@ pub enum Error {
     #[error("no frames in {}", .0.display())]
     NoFrames(PathBuf),
 
-    /// A stage stopped because another one failed.
-    #[error("aborted")]
-    Aborted,
-
     /// A bug: a stage panicked, or something the library keeps true did not hold. The
     /// message says where, or which.
     #[error("internal error: {0}")]

@@ -72,7 +72,10 @@ fn root_reexports(lib: &str) -> BTreeMap<String, String> {
             .take_while(|c| c.is_alphanumeric() || *c == '_')
             .collect();
         let names = rest.rsplit("::").next().unwrap_or("");
-        for n in names.split([',', '{', '}', ' ', '\n']).filter(|n| !n.is_empty()) {
+        for n in names
+            .split([',', '{', '}', ' ', '\n'])
+            .filter(|n| !n.is_empty())
+        {
             out.insert(n.to_string(), module.clone());
         }
     }
@@ -84,7 +87,7 @@ fn no_module_imports_one_that_depends_on_it() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
     let reexports = root_reexports(&code(&lib));
-    assert!(reexports.get("Retargeter").is_some(), "{reexports:?}");
+    assert!(reexports.contains_key("Retargeter"), "{reexports:?}");
     let mut files = Vec::new();
     sources(&src, &mut files);
     let modules: BTreeSet<String> = files.iter().filter_map(|f| module_of(&src, f)).collect();
@@ -105,12 +108,19 @@ fn no_module_imports_one_that_depends_on_it() {
             };
             if to != from {
                 let rel = f.strip_prefix(&src).unwrap().display().to_string();
-                edges.entry(from.clone()).or_default().entry(to).or_default().insert(rel);
+                edges
+                    .entry(from.clone())
+                    .or_default()
+                    .entry(to)
+                    .or_default()
+                    .insert(rel);
             }
         }
     }
     assert!(
-        edges.get("retarget").is_some_and(|e| e.contains_key("mesh")),
+        edges
+            .get("retarget")
+            .is_some_and(|e| e.contains_key("mesh")),
         "the reader found the core's imports: {edges:?}"
     );
     // A cycle is a path back to where it started: depth-first from every module.

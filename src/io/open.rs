@@ -480,7 +480,9 @@ impl FrameSink for FileSink {
     fn write_frame(&mut self, frame: &Retargeted) -> Result<(), Error> {
         match &mut self.inner {
             Some(s) => s.write_frame(frame),
-            None => Err(Error::Aborted),
+            None => Err(Error::OutOfOrder(
+                "a frame written to a sink already finished".into(),
+            )),
         }
     }
     fn finish(&mut self) -> Result<(), Error> {

@@ -263,7 +263,7 @@ impl Mesh {
     pub fn vertices(&self) -> &[DVec2] {
         &self.vertices
     }
-    /// Stable vertex ids (see [`IncrementalMesh`]).
+    /// Stable vertex ids (kept by a stream's incremental mesh, so later stages can tell a kept vertex from a new one).
     pub fn ids(&self) -> &[u64] {
         &self.ids
     }
@@ -275,7 +275,7 @@ impl Mesh {
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles
     }
-    /// Adjacent triangle across the edge opposite each vertex ([`NONE`] on the border).
+    /// Adjacent triangle across the edge opposite each vertex (`NONE`, `u32::MAX`, on the border).
     pub fn neighbours(&self) -> &[[u32; 3]] {
         &self.neighbours
     }

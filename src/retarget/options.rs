@@ -17,7 +17,7 @@ pub struct Options {
     pub alpha: f32,
     /// Energy tuning (see [`EnergyParams`]).
     pub energy: EnergyParams,
-    /// Keep the VSM, mesh and warp of each frame in [`Retargeted::analysis`] (for pictures and
+    /// Keep the VSM, mesh and warp of each frame in [`crate::Retargeted::analysis`] (for pictures and
     /// metrics; costs memory).
     pub keep_analysis: bool,
     /// When a stream may reuse the previous frame's mesh and solution.
@@ -33,7 +33,7 @@ pub struct Options {
     pub marks: Option<Arc<VectorLayer>>,
     /// How vector marks are bound and drawn.
     pub vector: VectorOptions,
-    /// Content enhancement (§5.4, see [`crate::enhance`]); the default changes nothing.
+    /// Content enhancement (§5.4, see [`Enhancement`]); the default changes nothing.
     pub enhance: Enhancement,
 }
 

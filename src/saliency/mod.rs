@@ -51,7 +51,7 @@ pub struct VsmNorm {
 /// A visual saliency map: one value in `[0, 1]` per map cell, plus the parts later stages use.
 ///
 /// The map covers the image at `scale` image pixels per cell along each axis (1, or 2 for
-/// frames above [`FULL_RESOLUTION_MAX_PX`]): the mesh it guides has key points 10 px apart or
+/// frames above `FULL_RESOLUTION_MAX_PX`): the mesh it guides has key points 10 px apart or
 /// more, and a 6-px dot is still 3 cells, while the saliency passes and everything that reads
 /// the map cost a quarter.
 #[derive(Clone, Debug)]

@@ -8,7 +8,7 @@
 //!    faint content normalized up to full saliency, and the map would fight the marks for
 //!    room), and raised to 1 inside every point mark's and polyline's footprint; each point
 //!    mark's centre becomes a mesh vertex, and a mark that stands alone gets a ring of key
-//!    points just outside it ([`crate::mesh::IncrementalMesh::build_with_marks`]), so that it
+//!    points just outside it (when the mesh is built), so that it
 //!    sits in a fan of triangles of its own and keeps its shape and size, however many marks
 //!    there are (the small marks the mesh finds in the raster share a ring budget: beyond it,
 //!    a mark lies across large background triangles and does not grow with enhancement);
