@@ -183,6 +183,9 @@ pub(crate) fn weight(p: &EnergyParams, lambda: f64) -> f64 {
 /// local coordinates `z = c + C u`, a local quadratic `zᵀKz` adds `CᵀKC` to `H` and `−CᵀKc`
 /// to `b`; both are walked over every ordered pair of local coordinates, keeping the upper
 /// triangle (`i ≤ j`), which is exactly `H`'s upper triangle.
+///
+/// The walk's order is the pattern's: every term calls `entry` for its pairs even where its
+/// weight is 0 this time (the k-th call is the k-th slot of [`super::cholesky::SparseSystem`]).
 pub(crate) fn assemble(
     mesh: &Mesh,
     layout: &Layout,
@@ -190,13 +193,41 @@ pub(crate) fn assemble(
     terms: &TriangleTerms<'_>,
     params: &EnergyParams,
     rhs: &mut [f64],
-    mut entry: impl FnMut(usize, usize, f64),
+    entry: impl FnMut(usize, usize, f64),
 ) {
     rhs.fill(0.0);
+    let a = Assembly {
+        mesh,
+        layout,
+        geom,
+        terms,
+        params,
+        w: effective_weights(terms, params),
+    };
+    let mut sink = Sink { rhs, entry };
     let tris = mesh.triangles();
-    // An enhanced triangle (§5.4) matters whatever its saliency: it holds the scale asked of
-    // it as firmly as salient content.
-    let w: Vec<f64> = terms
+    let mean_area = mesh.size().width as f64 * mesh.size().height as f64 / tris.len().max(1) as f64;
+    for (t, tri) in tris.iter().enumerate() {
+        if layout.s_var[t][0] == FIXED {
+            continue; // all corners fixed: a constant
+        }
+        // Weights of the diagonal residuals (J00 − δx·a, J11 − δy·b) and of the off-diagonal
+        // ones (J01, J10: shear and rotation), which even empty ground resists a little.
+        let stiff = stiffness(layout, tri, geom[t].area, params.sliver_area * mean_area);
+        let cd = stiff * a.w[t];
+        let co = stiff * a.w[t].max(params.shear_floor * terms.boost[t]);
+        a.shape(&mut sink, t, tri, cd, co);
+        a.size_prior(&mut sink, t, cd);
+    }
+    a.smoothing(&mut sink);
+    a.text(&mut sink);
+    a.temporal(&mut sink);
+}
+
+/// `w_t` times the repair's boost, per triangle. An enhanced triangle (§5.4) matters whatever
+/// its saliency: it holds the scale asked of it as firmly as salient content.
+fn effective_weights(terms: &TriangleTerms<'_>, params: &EnergyParams) -> Vec<f64> {
+    terms
         .lambda
         .iter()
         .zip(terms.boost)
@@ -210,37 +241,61 @@ pub(crate) fn assemble(
                 w * b
             }
         })
-        .collect();
-    // Adds K[a][b] for local coordinates za, zb.
-    let pair = |za: &Coord,
-                zb: &Coord,
-                k: f64,
-                rhs: &mut [f64],
-                entry: &mut dyn FnMut(usize, usize, f64)| {
+        .collect()
+}
+
+/// Where a walk of `H` goes: each entry of its upper triangle to `entry`, in the walk's order,
+/// and the right-hand side into `rhs`. Generic over `entry` so that the per-entry call of the
+/// numeric assembly (the hot loop) is inlined.
+struct Sink<'r, F> {
+    rhs: &'r mut [f64],
+    entry: F,
+}
+
+impl<F: FnMut(usize, usize, f64)> Sink<'_, F> {
+    /// Adds `K[a][b]` for local coordinates `za`, `zb`.
+    #[inline]
+    fn pair(&mut self, za: &Coord, zb: &Coord, k: f64) {
         for (va, ca) in za.terms() {
             for (vb, cb) in zb.terms() {
                 if va <= vb {
-                    entry(va, vb, k * ca * cb);
+                    (self.entry)(va, vb, k * ca * cb);
                 }
             }
             if zb.c != 0.0 {
-                rhs[va] -= k * ca * zb.c;
+                self.rhs[va] -= k * ca * zb.c;
             }
         }
-    };
-    let mean_area = mesh.size().width as f64 * mesh.size().height as f64 / tris.len().max(1) as f64;
-    for (t, tri) in tris.iter().enumerate() {
+    }
+}
+
+/// The inputs of one walk of `H`, shared by its terms.
+struct Assembly<'a, 't> {
+    mesh: &'a Mesh,
+    layout: &'a Layout,
+    geom: &'a [TriangleGeometry],
+    terms: &'a TriangleTerms<'t>,
+    params: &'a EnergyParams,
+    /// [`effective_weights`].
+    w: Vec<f64>,
+}
+
+impl Assembly<'_, '_> {
+    /// Eq. 8–9 on triangle `t`: its Jacobian against its scales times `δ`, the diagonal
+    /// residuals weighted `cd`, shear and rotation `co`.
+    #[inline]
+    fn shape<F: FnMut(usize, usize, f64)>(
+        &self,
+        sink: &mut Sink<'_, F>,
+        t: usize,
+        tri: &[u32; 3],
+        cd: f64,
+        co: f64,
+    ) {
+        let layout = self.layout;
+        let g = &self.geom[t];
         let [sx, sy] = layout.s_var[t];
-        if sx == FIXED {
-            continue; // all corners fixed: a constant
-        }
-        let g = &geom[t];
-        // Weights of the diagonal residuals (J00 − δx·a, J11 − δy·b) and of the off-diagonal
-        // ones (J01, J10: shear and rotation), which even empty ground resists a little.
-        let stiff = stiffness(layout, tri, g.area, params.sliver_area * mean_area);
-        let cd = stiff * w[t];
-        let co = stiff * w[t].max(params.shear_floor * terms.boost[t]);
-        let [dx, dy] = terms.delta[t];
+        let [dx, dy] = self.terms.delta[t];
         let xs = tri.map(|v| layout.x[v as usize]);
         let ys = tri.map(|v| layout.y[v as usize]);
         // Row 0 of J is the gradient of x', row 1 that of y':
@@ -252,97 +307,113 @@ pub(crate) fn assemble(
             for j in 0..3 {
                 for k in 0..3 {
                     let (gj, gk) = (g.grad[j], g.grad[k]);
-                    pair(
-                        &coords[j],
-                        &coords[k],
-                        kx * gj.x * gk.x + ky * gj.y * gk.y,
-                        rhs,
-                        &mut entry,
-                    );
+                    sink.pair(&coords[j], &coords[k], kx * gj.x * gk.x + ky * gj.y * gk.y);
                 }
                 let gj = g.grad[j];
                 let kjs = -cd * d * if comp == 0 { gj.x } else { gj.y };
-                pair(&coords[j], &s, kjs, rhs, &mut entry);
-                pair(&s, &coords[j], kjs, rhs, &mut entry);
+                sink.pair(&coords[j], &s, kjs);
+                sink.pair(&s, &coords[j], kjs);
             }
-            pair(&s, &s, cd * d * d, rhs, &mut entry);
+            sink.pair(&s, &s, cd * d * d);
         }
-        let lambda = terms.lambda[t];
-        let enhanced = terms.enhance.get(t).is_some_and(|&e| e != 1.0);
+    }
+
+    /// The size prior `μ_t` on triangle `t`'s scales (0 below the threshold, but walked all
+    /// the same) and, for a triangle with a scale per axis, the pull `κ·cd·(δx·a − δy·b)²`
+    /// towards similarity.
+    #[inline]
+    fn size_prior<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>, t: usize, cd: f64) {
+        let params = self.params;
+        let [sx, sy] = self.layout.s_var[t];
+        let [dx, dy] = self.terms.delta[t];
+        let lambda = self.terms.lambda[t];
+        let enhanced = self.terms.enhance.get(t).is_some_and(|&e| e != 1.0);
         let mu = if lambda >= params.prior_threshold || enhanced {
-            params.prior_strength * g.area * w[t]
+            params.prior_strength * self.geom[t].area * self.w[t]
         } else {
             0.0
         };
         let (a, b) = (Coord::var(sx), Coord::var(sy));
         if sx == sy {
-            pair(&a, &a, mu, rhs, &mut entry);
-            rhs[sx as usize] += mu;
+            sink.pair(&a, &a, mu);
+            sink.rhs[sx as usize] += mu;
         } else {
-            // Size prior per axis, and the pull towards similarity `κ·cd·(δx·a − δy·b)²`.
             let mu = mu * params.free_prior;
             let ks = params.similarity * cd;
-            pair(&a, &a, mu + ks * dx * dx, rhs, &mut entry);
-            pair(&b, &b, mu + ks * dy * dy, rhs, &mut entry);
-            pair(&a, &b, -ks * dx * dy, rhs, &mut entry);
-            pair(&b, &a, -ks * dx * dy, rhs, &mut entry);
-            rhs[sx as usize] += mu;
-            rhs[sy as usize] += mu;
+            sink.pair(&a, &a, mu + ks * dx * dx);
+            sink.pair(&b, &b, mu + ks * dy * dy);
+            sink.pair(&a, &b, -ks * dx * dy);
+            sink.pair(&b, &a, -ks * dx * dy);
+            sink.rhs[sx as usize] += mu;
+            sink.rhs[sy as usize] += mu;
         }
     }
-    // Eq. 12, weight outside the square, per axis (half each, so that two similar triangles
-    // are tied as strongly as by one shared scale).
-    for (t, nb) in mesh.neighbours().iter().enumerate() {
-        for &n in nb {
-            if n == NONE || (n as usize) < t {
-                continue;
-            }
-            let n = n as usize;
-            if layout.s_var[t][0] == FIXED || layout.s_var[n][0] == FIXED {
-                continue;
-            }
-            let b = params.smoothing
-                * 0.25
-                * (geom[t].area + geom[n].area)
-                * (w[t] * w[n]).sqrt().max(params.smoothing_floor);
-            for axis in 0..2 {
-                let (st, sn) = (
-                    layout.s_var[t][axis] as usize,
-                    layout.s_var[n][axis] as usize,
-                );
-                entry(st, st, b);
-                entry(sn, sn, b);
-                entry(st.min(sn), st.max(sn), -b);
+
+    /// Eq. 12, weight outside the square, per axis (half each, so that two similar triangles
+    /// are tied as strongly as by one shared scale).
+    fn smoothing<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>) {
+        let (layout, geom, w, params) = (self.layout, self.geom, &self.w, self.params);
+        for (t, nb) in self.mesh.neighbours().iter().enumerate() {
+            for &n in nb {
+                if n == NONE || (n as usize) < t {
+                    continue;
+                }
+                let n = n as usize;
+                if layout.s_var[t][0] == FIXED || layout.s_var[n][0] == FIXED {
+                    continue;
+                }
+                let b = params.smoothing
+                    * 0.25
+                    * (geom[t].area + geom[n].area)
+                    * (w[t] * w[n]).sqrt().max(params.smoothing_floor);
+                for axis in 0..2 {
+                    let (st, sn) = (
+                        layout.s_var[t][axis] as usize,
+                        layout.s_var[n][axis] as usize,
+                    );
+                    (sink.entry)(st, st, b);
+                    (sink.entry)(sn, sn, b);
+                    (sink.entry)(st.min(sn), st.max(sn), -b);
+                }
             }
         }
     }
-    // Text blocks: their scale pulled to δ (as large as the space allows, at most 1).
-    if let Some(st) = mesh.structure() {
-        for (k, block) in layout.blocks.iter().enumerate() {
+
+    /// Text blocks: their scale pulled to δ (as large as the space allows, at most 1).
+    fn text<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>) {
+        let Some(st) = self.mesh.structure() else {
+            return;
+        };
+        let terms = self.terms;
+        for (k, block) in self.layout.blocks.iter().enumerate() {
             if block[2] == FIXED {
                 continue;
             }
             let b = &st.text[k];
             let area = ((b.x1 - b.x0) * (b.y1 - b.y0)) as f64;
-            let mu = params.text_strength * area * terms.text_hold.get(k).copied().unwrap_or(1.0);
+            let mu =
+                self.params.text_strength * area * terms.text_hold.get(k).copied().unwrap_or(1.0);
             let sv = block[2] as usize;
-            entry(sv, sv, mu);
-            rhs[sv] += mu * terms.text_targets.get(k).copied().unwrap_or(1.0);
+            (sink.entry)(sv, sv, mu);
+            sink.rhs[sv] += mu * terms.text_targets.get(k).copied().unwrap_or(1.0);
         }
     }
-    // Temporal term: τ·|z − anchor|² on anchored coordinates.
-    let tau = params.temporal;
-    for (v, a) in terms.anchors.iter().enumerate() {
-        let Some((a, k)) = *a else { continue };
-        for (z, target) in [(layout.x[v], a.x), (layout.y[v], a.y)] {
-            if z.is_fixed() {
-                continue;
+
+    /// Temporal term: τ·|z − anchor|² on anchored coordinates.
+    fn temporal<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>) {
+        let tau = self.params.temporal;
+        for (v, a) in self.terms.anchors.iter().enumerate() {
+            let Some((a, k)) = *a else { continue };
+            for (z, target) in [(self.layout.x[v], a.x), (self.layout.y[v], a.y)] {
+                if z.is_fixed() {
+                    continue;
+                }
+                let shifted = Coord {
+                    c: z.c - target,
+                    ..z
+                };
+                sink.pair(&shifted, &shifted, tau * k);
             }
-            let shifted = Coord {
-                c: z.c - target,
-                ..z
-            };
-            pair(&shifted, &shifted, tau * k, rhs, &mut entry);
         }
     }
 }
