@@ -25,18 +25,19 @@
 //!   prior and smoothing ask; `κ` keeps a trace of the paper's similarity for salient content.
 //! * **Jacobian form.** Eq. 8 sums `‖e' − s·e‖²` over a triangle's edges. The same idea written as
 //!   `A·‖J − sI‖²` (the paper's own `∫ S‖J_F − P‖²` of §5.2.1) is still linear, but weighs a
-//!   triangle by its area instead of its edge lengths (measured on the seed-7 stills: fewer
-//!   folds, rounder marks).
+//!   triangle by its area instead of its edge lengths: a mark's fan of long thin triangles is
+//!   held by what it covers, so marks stay rounder and fold less.
 //! * **Slivers.** `Â_t = max(A_t, ζ·Ā)` with `Ā` the mean triangle area: a sliver between a line
 //!   and a label beside it, or between two close lines, keeps its shape as firmly as a triangle
-//!   of that size, instead of flipping at the least push (on a 1920×1080 dashboard at half
-//!   width, `ζ = 0.5` took the folds after the first solve from 529 to 356).
+//!   of that size, instead of flipping at the least push. `ζ = 0.5`: slivers are far smaller
+//!   than half the mean, so they all get the floor, while a triangle of ordinary size keeps
+//!   the weight of its own area.
 //! * **Weights.** `w_t = max(λ_t^p, floor)` with `λ_t` the mean VSM over the triangle's pixels
 //!   (Eq. 9), `p = 4` and `floor = 0.03`. Squaring is not enough contrast: with `λ²` the empty
 //!   background still resists and marks get squeezed. With per-axis scales the floor no longer
-//!   makes empty ground resist a squeeze, only an uneven one: with `0.001` the ground between
-//!   marks folded in whole columns (chart-scatter-01 at half width: 176 folds after the first
-//!   solve, 4 with `0.03`).
+//!   makes empty ground resist a squeeze, only an uneven one; that is what it is for: near 0
+//!   the ground between marks takes a squeeze wherever it lands and folds in whole columns,
+//!   and `0.03` still leaves it about 30 times softer than a mark.
 //! * **Where λ goes in Eq. 12.** Printed, the smoothing term is `(λ_t s_t − λ_n s_n)²`: between an
 //!   empty triangle (`λ ≈ 0`) and a salient one it pulls the salient scale towards zero, so the
 //!   marks next to empty space shrink. We take the weight out of the square, as a coupling
@@ -47,9 +48,8 @@
 //!   the gap keeps its share).
 //! * **Flat triangles** (no edge inside) weigh `λ_t = 0` however salient their colour
 //!   ([`super::weights`]): a header bar or a panel's inside looks the same squeezed, and
-//!   the edges that bound it keep their shape in triangles of their own. On the 24 real
-//!   stills at half width this gave the text blocks the room they need (OCR share of words
-//!   kept 0.656 → 0.692).
+//!   the edges that bound it keep their shape in triangles of their own. The room a flat
+//!   region gives goes to what must keep its size, the text blocks above all.
 //! * **Size prior.** Without it, shrinking a canvas shrinks marks too (the scales are free):
 //!   `μ_t` pulls them towards 1 (towards `δ`, which carries the enhancement of §5.4 and the
 //!   fit of [`super::fit`]; on a growing canvas marks aim at the geometric mean of the axes' scales
