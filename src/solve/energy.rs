@@ -60,6 +60,7 @@
 //! are laid out by [`Layout`].
 
 use super::boundary::{Coord, Layout, FIXED};
+use crate::error::Error;
 use crate::mesh::{Mesh, NONE};
 use glam::DVec2;
 
@@ -119,6 +120,73 @@ impl Default for EnergyParams {
             sliver_area: 0.5,
             free_prior: 1.0,
         }
+    }
+}
+
+/// The range each field of [`EnergyParams`] must lie in, in the order
+/// [`EnergyParams::validate`] checks them. Strengths and exponents are at least 0: a negative
+/// one would make `H` indefinite (no minimum to solve for). Floors, thresholds and shares are
+/// compared with `λ_t` or weights (both at most 1) or with the mean triangle area: above 1 they
+/// would hold empty ground as firmly as fully salient content. The upper bounds of strengths
+/// keep the system's entries far from overflowing (areas reach millions of px²).
+const RANGES: [(&str, f64, f64); 12] = [
+    ("weight_power", 0.0, 16.0),
+    // Above 0: `w_t` is then never 0, so every triangle's shape term is positive definite.
+    ("weight_floor", 1e-9, 1.0),
+    ("prior_threshold", 0.0, 1.0),
+    ("prior_strength", 0.0, 1e6),
+    ("smoothing", 0.0, 1e6),
+    ("text_strength", 0.0, 1e6),
+    ("temporal", 0.0, 1e6),
+    ("shear_floor", 0.0, 1.0),
+    ("similarity", 0.0, 1e6),
+    ("smoothing_floor", 0.0, 1.0),
+    ("sliver_area", 0.0, 1.0),
+    ("free_prior", 0.0, 1e6),
+];
+
+impl EnergyParams {
+    /// Checks every field: finite and within its range (see the fields' docs for what each
+    /// means). The error names the first field out of range, its value and what is allowed.
+    pub fn validate(&self) -> Result<(), Error> {
+        // Destructured whole, so that a new field cannot be added without a check.
+        let EnergyParams {
+            weight_power,
+            weight_floor,
+            prior_threshold,
+            prior_strength,
+            smoothing,
+            text_strength,
+            temporal,
+            shear_floor,
+            similarity,
+            smoothing_floor,
+            sliver_area,
+            free_prior,
+        } = *self;
+        let values = [
+            weight_power,
+            weight_floor,
+            prior_threshold,
+            prior_strength,
+            smoothing,
+            text_strength,
+            temporal,
+            shear_floor,
+            similarity,
+            smoothing_floor,
+            sliver_area,
+            free_prior,
+        ];
+        for ((name, lo, hi), v) in RANGES.into_iter().zip(values) {
+            // NaN is in no range.
+            if !(lo..=hi).contains(&v) {
+                return Err(Error::InvalidOptions(format!(
+                    "{name} {v} is out of range: allowed {lo} to {hi}"
+                )));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -492,4 +560,51 @@ pub(crate) fn energy_of(
         }
     }
     e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_valid() {
+        EnergyParams::default().validate().unwrap();
+    }
+
+    /// Every field is checked: below its range, above it, NaN and infinite are refused with
+    /// the field's name and range; its bounds are allowed.
+    #[test]
+    fn each_field_out_of_range_is_refused_by_name() {
+        type Field = fn(&mut EnergyParams) -> &mut f64;
+        let fields: [(&str, Field); 12] = [
+            ("weight_power", |p| &mut p.weight_power),
+            ("weight_floor", |p| &mut p.weight_floor),
+            ("prior_threshold", |p| &mut p.prior_threshold),
+            ("prior_strength", |p| &mut p.prior_strength),
+            ("smoothing", |p| &mut p.smoothing),
+            ("text_strength", |p| &mut p.text_strength),
+            ("temporal", |p| &mut p.temporal),
+            ("shear_floor", |p| &mut p.shear_floor),
+            ("similarity", |p| &mut p.similarity),
+            ("smoothing_floor", |p| &mut p.smoothing_floor),
+            ("sliver_area", |p| &mut p.sliver_area),
+            ("free_prior", |p| &mut p.free_prior),
+        ];
+        for (name, field) in fields {
+            let &(_, lo, hi) = RANGES.iter().find(|r| r.0 == name).unwrap();
+            let below = if lo > 0.0 { lo / 2.0 } else { -1e-3 };
+            for bad in [below, hi * 1.5, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut p = EnergyParams::default();
+                *field(&mut p) = bad;
+                let e = p.validate().expect_err(name).to_string();
+                let want = format!("{name} {bad} is out of range: allowed {lo} to {hi}");
+                assert!(e.contains(&want), "{e}");
+            }
+            for ok in [lo, hi] {
+                let mut p = EnergyParams::default();
+                *field(&mut p) = ok;
+                p.validate().unwrap();
+            }
+        }
+    }
 }
