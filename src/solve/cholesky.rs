@@ -297,17 +297,17 @@ pub(crate) enum Solved {
 }
 
 /// faer factorizes supernodally (dense blocks) where its flop count per factor entry is above
-/// this share of its default threshold. The default kept the meshes' systems (a few thousand
-/// unknowns, fill from the scale unknowns' coupling) simplicial, at up to twice the time of
-/// the supernodal factorization (`cargo bench --bench paper_tables`: 9.0 → 4.4 ms on Hex
-/// Points, 13.1 → 7.6 on GC, no size slower by more than noise).
+/// this share of its default threshold. The meshes' systems (a few thousand unknowns, fill
+/// from the scale unknowns' coupling) sit just below the default, where the simplicial
+/// factorization takes about twice the time of the supernodal one (`cargo bench --bench
+/// paper_tables` shows it); a tenth of it puts them on the supernodal side.
 const SUPERNODAL_THRESHOLD: SupernodalThreshold = SupernodalThreshold(0.1);
 
 /// Unknowns whose rows may change for an update to be tried instead of a factorization: a
-/// repair round boosts a few triangles (tens of unknowns), a text hold a few blocks. An update
-/// costs about 1/70 of a factorization on the paper tables' systems (0.05 against 3.5 ms),
-/// 1/120 on a 2010×1628 dashboard's (0.7 against 85 ms), and there are at most as many as
-/// unknowns that changed.
+/// repair round boosts a few triangles (tens of unknowns), a text hold a few blocks. One
+/// rank-one update walks one path of the elimination tree, 1/70 to 1/120 of a factorization's
+/// time on these systems, and there are at most as many as unknowns that changed: up to 64,
+/// the updates never cost much more than the factorization they replace.
 const MAX_UPDATE_SUPPORT: usize = 64;
 
 impl SparseSystem {
@@ -328,8 +328,8 @@ impl SparseSystem {
         self.has_factor = false;
         self.factored = false;
         // The assembly order sorted by (column, row): bucketed by column, then each column's
-        // few entries sorted (61k mesh-like pairs: 1.2 ms, against 3.3 ms for one comparison
-        // sort of them all).
+        // few entries sorted, which is linear in the pairs but for those short sorts (one
+        // comparison sort of them all takes about three times as long on a mesh's pairs).
         let mut start = vec![0u32; n + 1];
         for &(_, j) in pairs {
             start[j as usize + 1] += 1;
