@@ -449,23 +449,7 @@ impl<'a> Builder<'a> {
     /// Lays out vertex `i` at source position `p` with boundary constraint `side`.
     fn vertex(&mut self, i: usize, p: DVec2, side: Boundary) {
         let role = self.mesh.roles().get(i).copied().unwrap_or_default();
-        // Eq. 11: a side vertex slides along its side, across it it sits on the target's.
-        let across = [
-            side.fixes_x().then(|| {
-                if p.x >= self.size.x {
-                    self.target.x
-                } else {
-                    0.0
-                }
-            }),
-            side.fixes_y().then(|| {
-                if p.y >= self.size.y {
-                    self.target.y
-                } else {
-                    0.0
-                }
-            }),
-        ];
+        let across = self.across_side(p, side);
         if let Some(q) = self.fixed.get(i).copied().flatten() {
             let l = &mut self.layout;
             l.x.push(Coord::fixed(across[0].unwrap_or(q.x)));
@@ -484,6 +468,16 @@ impl<'a> Builder<'a> {
         };
         self.layout.x.push(x);
         self.layout.y.push(y);
+    }
+
+    /// Eq. 11: across its side, a side or corner vertex sits on the target's side (x, then
+    /// y); `None` along a side it slides on, and for an interior vertex.
+    fn across_side(&self, p: DVec2, side: Boundary) -> [Option<f64>; 2] {
+        let at = DVec2::select(p.cmpge(self.size), self.target, DVec2::ZERO);
+        [
+            side.fixes_x().then_some(at.x),
+            side.fixes_y().then_some(at.y),
+        ]
     }
 
     /// The x of a free vertex: its area's map, else its text block's, else its vertical
