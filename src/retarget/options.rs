@@ -115,21 +115,7 @@ impl Options {
                 self.alpha
             )));
         }
-        let e = &self.energy;
-        let checks = [
-            ("weight_power", e.weight_power, 0.0, 16.0),
-            ("weight_floor", e.weight_floor, 1e-9, 1.0),
-            ("prior_threshold", e.prior_threshold, 0.0, 1.0),
-            ("prior_strength", e.prior_strength, 0.0, 1e6),
-            ("smoothing", e.smoothing, 0.0, 1e6),
-        ];
-        for (name, v, lo, hi) in checks {
-            if !(lo..=hi).contains(&v) {
-                return Err(Error::InvalidOptions(format!(
-                    "{name} {v} is out of range: allowed {lo} to {hi}"
-                )));
-            }
-        }
+        self.energy.validate()?;
         let r = &self.reuse;
         if !(4..=1024).contains(&r.tile_px) {
             return Err(Error::InvalidOptions(format!(

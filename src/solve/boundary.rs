@@ -20,9 +20,10 @@
 //! a quadratic leaves a quadratic, so the solve stays one sparse system.
 
 use crate::image::Size;
-use crate::mesh::Mesh;
+use crate::mesh::{Boundary, Mesh, Role};
 use crate::structure::TextBlock;
 use glam::DVec2;
+use std::collections::HashMap;
 
 /// Marks an absent unknown.
 pub(crate) const FIXED: u32 = u32::MAX;
@@ -354,6 +355,313 @@ impl AreaMembers {
     }
 }
 
+/// Hands out unknowns, numbered in the order they are asked for (the order of the system's
+/// rows, which the pattern key and the assembly depend on).
+#[derive(Default)]
+struct Unknowns(u32);
+
+impl Unknowns {
+    fn fresh(&mut self) -> u32 {
+        self.0 += 1;
+        self.0 - 1
+    }
+}
+
+/// One [`Layout::with_fixed`] under way: what the structure asks to share, the unknowns each
+/// shared thing got so far, and the layout being filled vertex by vertex.
+struct Builder<'a> {
+    mesh: &'a Mesh,
+    fixed: &'a [Option<DVec2>],
+    /// Source and target sides.
+    size: DVec2,
+    target: DVec2,
+    members: AreaMembers,
+    attached: Vec<Option<Attached>>,
+    /// Per horizontal (vertical) line, its group of collinear pieces ([`joined_lines`]).
+    h_groups: Vec<usize>,
+    v_groups: Vec<usize>,
+    /// Per text block, its row ([`text_rows`]).
+    rows: Vec<usize>,
+    /// Per data area, the last frame's map where a vertex of it is held ([`frozen_maps`]).
+    frozen: Vec<Option<[f64; 4]>>,
+    next: Unknowns,
+    /// The vertical place and scale `[ty, s]` of each row of text blocks.
+    row_vars: HashMap<usize, [u32; 2]>,
+    /// The unknown of each group of collinear line pieces.
+    hpos: HashMap<usize, u32>,
+    vpos: HashMap<usize, u32>,
+    /// The scale shared by the blocks tied to one side of an area along y (a y axis' tick
+    /// labels keep one size).
+    side_scale: HashMap<(usize, bool), u32>,
+    /// The shared unknowns of each group of areas, per kind (`[ax, bx, ay, by]` index).
+    group_vars: HashMap<(u8, usize), u32>,
+    layout: Layout,
+}
+
+impl<'a> Builder<'a> {
+    fn new(mesh: &'a Mesh, target: Size, fixed: &'a [Option<DVec2>]) -> Builder<'a> {
+        let nv = mesh.vertices().len();
+        let st = mesh.structure();
+        // Collinear pieces of one line (a frame interrupted by its title) share one unknown.
+        let (h_groups, v_groups) = match st {
+            Some(s) => (
+                joined_lines(&s.horizontal, s, true),
+                joined_lines(&s.vertical, s, false),
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let members = st.map(AreaMembers::of).unwrap_or_default();
+        let frozen = frozen_maps(mesh, &members, fixed);
+        let layout = Layout {
+            x: Vec::with_capacity(nv),
+            y: Vec::with_capacity(nv),
+            s_var: vec![[FIXED; 2]; mesh.triangles().len()],
+            blocks: vec![[FIXED; 3]; st.map_or(0, |s| s.text.len())],
+            hlines: vec![FIXED; st.map_or(0, |s| s.horizontal.len())],
+            vlines: vec![FIXED; st.map_or(0, |s| s.vertical.len())],
+            areas: vec![[FIXED; 4]; members.groups.len()],
+            on_area: vec![false; nv],
+            dof: 0,
+            n: 0,
+            uses: Vec::new(),
+        };
+        Builder {
+            mesh,
+            fixed,
+            size: DVec2::new(mesh.size().width as f64, mesh.size().height as f64),
+            target: DVec2::new(target.width as f64, target.height as f64),
+            attached: st.map(attachments).unwrap_or_default(),
+            rows: st.map_or(Vec::new(), |s| text_rows(&s.text, &s.vertical)),
+            members,
+            h_groups,
+            v_groups,
+            frozen,
+            next: Unknowns::default(),
+            row_vars: HashMap::new(),
+            hpos: HashMap::new(),
+            vpos: HashMap::new(),
+            side_scale: HashMap::new(),
+            group_vars: HashMap::new(),
+            layout,
+        }
+    }
+
+    /// Lays out vertex `i` at source position `p` with boundary constraint `side`.
+    fn vertex(&mut self, i: usize, p: DVec2, side: Boundary) {
+        let role = self.mesh.roles().get(i).copied().unwrap_or_default();
+        let across = self.across_side(p, side);
+        if let Some(q) = self.fixed.get(i).copied().flatten() {
+            let l = &mut self.layout;
+            l.x.push(Coord::fixed(across[0].unwrap_or(q.x)));
+            l.y.push(Coord::fixed(across[1].unwrap_or(q.y)));
+            return;
+        }
+        let area = self.members.of_vertex(p, role);
+        self.layout.on_area[i] = area.x.is_some() || area.y.is_some();
+        let x = match across[0] {
+            Some(c) => Coord::fixed(c),
+            None => self.x_coord(p, role, area.x),
+        };
+        let y = match across[1] {
+            Some(c) => Coord::fixed(c),
+            None => self.y_coord(p, role, area.y),
+        };
+        self.layout.x.push(x);
+        self.layout.y.push(y);
+    }
+
+    /// Eq. 11: across its side, a side or corner vertex sits on the target's side (x, then
+    /// y); `None` along a side it slides on, and for an interior vertex.
+    fn across_side(&self, p: DVec2, side: Boundary) -> [Option<f64>; 2] {
+        let at = DVec2::select(p.cmpge(self.size), self.target, DVec2::ZERO);
+        [
+            side.fixes_x().then_some(at.x),
+            side.fixes_y().then_some(at.y),
+        ]
+    }
+
+    /// The x of a free vertex: its area's map, else its text block's, else its vertical
+    /// line's, else an unknown of its own. The first vertex of a block sets the block's
+    /// unknowns up.
+    fn x_coord(&mut self, p: DVec2, role: Role, area: Option<usize>) -> Coord {
+        if let Some(k) = area {
+            return self.area_coord(k, 0, p.x, None);
+        }
+        if let Some(k) = role.block.map(|k| k as usize) {
+            let bl = self.block_vars(k);
+            return match self.attached(k) {
+                Some(at) if at.along_x => {
+                    let own = Some((bl[2], p.x - at.centre));
+                    self.area_coord(at.area, 0, at.centre, own)
+                }
+                _ => Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x)),
+            };
+        }
+        if let Some(k) = role.vline {
+            return Coord::var(self.line_var(k as usize, false));
+        }
+        Coord::var(self.next.fresh())
+    }
+
+    /// The y of a free vertex, as [`Builder::x_coord`]; a block's unknowns are those its x
+    /// set up.
+    fn y_coord(&mut self, p: DVec2, role: Role, area: Option<usize>) -> Coord {
+        if let Some(k) = area {
+            return self.area_coord(k, 1, p.y, None);
+        }
+        if let Some(k) = role.block.map(|k| k as usize) {
+            let bl = self.layout.blocks[k];
+            return match self.attached(k) {
+                Some(at) if !at.along_x => {
+                    let own = Some((bl[2], p.y - at.centre));
+                    self.area_coord(at.area, 1, at.centre, own)
+                }
+                _ => Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y)),
+            };
+        }
+        if let Some(k) = role.hline {
+            return Coord::var(self.line_var(k as usize, true));
+        }
+        Coord::var(self.next.fresh())
+    }
+
+    fn attached(&self, k: usize) -> Option<Attached> {
+        self.attached.get(k).copied().flatten()
+    }
+
+    /// Text block `k`'s unknowns `(tx, ty, s)`, set up on first use. A block tied to an area
+    /// along y has its own x, its y from the area and one scale per side of the area; the
+    /// others share their row's vertical place and scale, and one tied along x takes its x
+    /// from the area.
+    fn block_vars(&mut self, k: usize) -> [u32; 3] {
+        if self.layout.blocks[k][2] == FIXED {
+            self.layout.blocks[k] = match self.attached(k) {
+                Some(at) if !at.along_x => {
+                    let s = *self
+                        .side_scale
+                        .entry((at.area, false))
+                        .or_insert_with(|| self.next.fresh());
+                    [self.next.fresh(), FIXED, s]
+                }
+                at => {
+                    let g = self.rows[k];
+                    let next = &mut self.next;
+                    let [ty, s] = *self
+                        .row_vars
+                        .entry(g)
+                        .or_insert_with(|| [next.fresh(), next.fresh()]);
+                    [if at.is_some() { FIXED } else { next.fresh() }, ty, s]
+                }
+            };
+        }
+        self.layout.blocks[k]
+    }
+
+    /// The unknown of line `k` (its y if `horizontal`), shared with its collinear pieces.
+    fn line_var(&mut self, k: usize, horizontal: bool) -> u32 {
+        let (group, pos, vars) = if horizontal {
+            (self.h_groups[k], &mut self.hpos, &mut self.layout.hlines)
+        } else {
+            (self.v_groups[k], &mut self.vpos, &mut self.layout.vlines)
+        };
+        let v = *pos.entry(group).or_insert_with(|| self.next.fresh());
+        vars[k] = v;
+        v
+    }
+
+    /// Unknown `i` of `[ax, bx, ay, by]` of area `k`, shared with the areas of its group.
+    fn area_var(&mut self, k: usize, i: usize) -> u32 {
+        let key = (i as u8, self.members.groups[k][i]);
+        let v = *self
+            .group_vars
+            .entry(key)
+            .or_insert_with(|| self.next.fresh());
+        self.layout.areas[k][i] = v;
+        v
+    }
+
+    /// Coordinate `pos` along `axis` (0 x, 1 y) of area `k`'s map (or of the last frame's,
+    /// frozen); with `own = Some((s, d))`, plus a block's own scale `s` times `d`, its
+    /// distance from its anchor.
+    fn area_coord(&mut self, k: usize, axis: usize, pos: f64, own: Option<(u32, f64)>) -> Coord {
+        match (
+            self.frozen[k].map(|m| m[2 * axis] * pos + m[2 * axis + 1]),
+            own,
+        ) {
+            (Some(c), None) => Coord::fixed(c),
+            (Some(c), Some((s, d))) => Coord::affine(c, (s, d), (FIXED, 0.0)),
+            (None, own) => {
+                let b = self.area_var(k, 2 * axis + 1);
+                let a = self.area_var(k, 2 * axis);
+                match own {
+                    None => Coord::affine(0.0, (b, 1.0), (a, pos)),
+                    Some((s, d)) => Coord::affine3(0.0, (b, 1.0), (a, pos), (s, d)),
+                }
+            }
+        }
+    }
+
+    /// The scale unknowns, after every position's: one per triangle that must stay similar
+    /// (a mark's fan, the inside of a text block), one per axis for the others, none for a
+    /// triangle whose corners are all fixed. Then how many coordinates use each unknown.
+    fn finish(self) -> Layout {
+        let Builder {
+            mesh,
+            mut next,
+            layout: mut l,
+            ..
+        } = self;
+        l.dof = next.0 as usize;
+        let fans = mesh.fan_triangles();
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            let active = tri
+                .iter()
+                .any(|&v| !l.x[v as usize].is_fixed() || !l.y[v as usize].is_fixed());
+            if active {
+                let similar =
+                    fans.get(t).copied().unwrap_or(false) || mesh.triangle_block(t).is_some();
+                if similar {
+                    l.s_var[t] = [next.fresh(); 2];
+                } else {
+                    l.s_var[t] = [next.fresh(), next.fresh()];
+                }
+            }
+        }
+        l.n = next.0 as usize;
+        l.uses = vec![0; l.n];
+        for z in l.x.iter().chain(&l.y) {
+            for (v, _) in z.terms() {
+                l.uses[v] += 1;
+            }
+        }
+        l
+    }
+}
+
+/// A local update holds what lies outside the changed region where the last frame put it: an
+/// area with a vertex held keeps the last frame's map (fitted to its held vertices, those it
+/// follows along both axes that are not text) and is no unknown (a few free vertices could
+/// not pin its four down). Per area, that map or `None`.
+fn frozen_maps(
+    mesh: &Mesh,
+    members: &AreaMembers,
+    fixed: &[Option<DVec2>],
+) -> Vec<Option<[f64; 4]>> {
+    let roles = mesh.roles();
+    (0..members.groups.len())
+        .map(|k| {
+            let held_in = mesh.vertices().iter().enumerate().filter_map(|(i, &p)| {
+                let role = roles.get(i).copied().unwrap_or_default();
+                let a = members.of_vertex(p, role);
+                (a.x == Some(k) && a.y == Some(k) && role.block.is_none())
+                    .then(|| fixed.get(i).copied().flatten().map(|q| (p, q)))
+                    .flatten()
+            });
+            fit_map(held_in)
+        })
+        .collect()
+}
+
 /// Which unknowns each vertex coordinate and each triangle scale are.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Layout {
@@ -393,213 +701,11 @@ impl Layout {
     /// update keeps everything outside the changed region where the last frame put it). An
     /// empty `fixed` fixes nothing.
     pub fn with_fixed(mesh: &Mesh, target: Size, fixed: &[Option<DVec2>]) -> Layout {
-        let (w, h) = (mesh.size().width as f64, mesh.size().height as f64);
-        let (tw, th) = (target.width as f64, target.height as f64);
-        let nv = mesh.vertices().len();
-        let nt = mesh.triangles().len();
-        let roles = mesh.roles();
-        let fans = mesh.fan_triangles();
-        let held = |i: usize| fixed.get(i).copied().flatten();
-        let mut next = 0u32;
-        let mut fresh = || {
-            next += 1;
-            next - 1
-        };
-        // Collinear pieces of one line (a frame interrupted by its title) share one unknown.
-        let (st_h, st_v) = match mesh.structure() {
-            Some(s) => (
-                joined_lines(&s.horizontal, s, true),
-                joined_lines(&s.vertical, s, false),
-            ),
-            None => (Vec::new(), Vec::new()),
-        };
-        let rows = mesh
-            .structure()
-            .map_or(Vec::new(), |s| text_rows(&s.text, &s.vertical));
-        let mut row_vars: std::collections::HashMap<usize, [u32; 2]> = Default::default();
-        let mut hpos: std::collections::HashMap<usize, u32> = Default::default();
-        let mut vpos: std::collections::HashMap<usize, u32> = Default::default();
-        let n_blocks = mesh.structure().map_or(0, |s| s.text.len());
-        let n_h = mesh.structure().map_or(0, |s| s.horizontal.len());
-        let n_v = mesh.structure().map_or(0, |s| s.vertical.len());
-        let members = mesh.structure().map(AreaMembers::of).unwrap_or_default();
-        let attached = mesh.structure().map(attachments).unwrap_or_default();
-        // The scale shared by the blocks tied to one side of an area along y (a y axis' tick
-        // labels keep one size).
-        let mut side_scale: std::collections::HashMap<(usize, bool), u32> = Default::default();
-        // A local update holds what lies outside the changed region where the last frame put
-        // it: an area with a vertex held keeps the last frame's map (fitted to its held
-        // vertices) and is no unknown (a few free vertices could not pin its four down).
-        let frozen: Vec<Option<[f64; 4]>> = (0..members.groups.len())
-            .map(|k| {
-                let held_in = mesh.vertices().iter().enumerate().filter_map(|(i, &p)| {
-                    let role = roles.get(i).copied().unwrap_or_default();
-                    let a = members.of_vertex(p, role);
-                    (a.x == Some(k) && a.y == Some(k) && role.block.is_none())
-                        .then(|| held(i).map(|q| (p, q)))
-                        .flatten()
-                });
-                fit_map(held_in)
-            })
-            .collect();
-        let n_areas = members.groups.len();
-        // The shared unknowns of each group (scale along x, offset along x, along y).
-        let mut group_vars: std::collections::HashMap<(u8, usize), u32> = Default::default();
-        let mut l = Layout {
-            x: Vec::with_capacity(nv),
-            y: Vec::with_capacity(nv),
-            s_var: vec![[FIXED; 2]; nt],
-            blocks: vec![[FIXED; 3]; n_blocks],
-            hlines: vec![FIXED; n_h],
-            vlines: vec![FIXED; n_v],
-            areas: vec![[FIXED; 4]; n_areas],
-            on_area: vec![false; nv],
-            dof: 0,
-            n: 0,
-            uses: Vec::new(),
-        };
-        for (i, (&p, &b)) in mesh.vertices().iter().zip(mesh.boundary()).enumerate() {
-            let role = roles.get(i).copied().unwrap_or_default();
-            if let Some(q) = held(i) {
-                l.x.push(Coord::fixed(if b.fixes_x() {
-                    if p.x >= w {
-                        tw
-                    } else {
-                        0.0
-                    }
-                } else {
-                    q.x
-                }));
-                l.y.push(Coord::fixed(if b.fixes_y() {
-                    if p.y >= h {
-                        th
-                    } else {
-                        0.0
-                    }
-                } else {
-                    q.y
-                }));
-                continue;
-            }
-            let block = role.block.map(|k| k as usize);
-            let area = members.of_vertex(p, role);
-            l.on_area[i] = area.x.is_some() || area.y.is_some();
-            let mut area_var = |k: usize, i: usize, fresh: &mut dyn FnMut() -> u32| -> u32 {
-                let key = (i as u8, members.groups[k][i]);
-                let v = *group_vars.entry(key).or_insert_with(fresh);
-                l.areas[k][i] = v;
-                v
-            };
-            // Coordinate `pos` along `axis` (0 x, 1 y) of area `k`'s map (or of the last
-            // frame's, frozen); with `own = Some((s, d))`, plus a block's own scale `s` times
-            // `d`, its distance from its anchor.
-            let mut area_coord = |k: usize,
-                                  axis: usize,
-                                  pos: f64,
-                                  own: Option<(u32, f64)>,
-                                  fresh: &mut dyn FnMut() -> u32|
-             -> Coord {
-                match (frozen[k].map(|m| m[2 * axis] * pos + m[2 * axis + 1]), own) {
-                    (Some(c), None) => Coord::fixed(c),
-                    (Some(c), Some((s, d))) => Coord::affine(c, (s, d), (FIXED, 0.0)),
-                    (None, own) => {
-                        let b = area_var(k, 2 * axis + 1, fresh);
-                        let a = area_var(k, 2 * axis, fresh);
-                        match own {
-                            None => Coord::affine(0.0, (b, 1.0), (a, pos)),
-                            Some((s, d)) => Coord::affine3(0.0, (b, 1.0), (a, pos), (s, d)),
-                        }
-                    }
-                }
-            };
-            let x = if b.fixes_x() {
-                Coord::fixed(if p.x >= w { tw } else { 0.0 })
-            } else if let Some(k) = area.x {
-                area_coord(k, 0, p.x, None, &mut fresh)
-            } else if let Some(k) = block {
-                if l.blocks[k][2] == FIXED {
-                    l.blocks[k] = match attached.get(k).copied().flatten() {
-                        // Tied along y: its own x, its y from the area, one scale per side.
-                        Some(at) if !at.along_x => {
-                            let s = *side_scale
-                                .entry((at.area, false))
-                                .or_insert_with(&mut fresh);
-                            [fresh(), FIXED, s]
-                        }
-                        // Blocks of one row share their vertical place and scale; a block
-                        // tied along x takes its x from the area.
-                        at => {
-                            let g = rows[k];
-                            let [ty, s] = *row_vars.entry(g).or_insert_with(|| [fresh(), fresh()]);
-                            [if at.is_some() { FIXED } else { fresh() }, ty, s]
-                        }
-                    };
-                }
-                let bl = l.blocks[k];
-                match attached.get(k).copied().flatten() {
-                    Some(at) if at.along_x => {
-                        let own = Some((bl[2], p.x - at.centre));
-                        area_coord(at.area, 0, at.centre, own, &mut fresh)
-                    }
-                    _ => Coord::affine(0.0, (bl[0], 1.0), (bl[2], p.x)),
-                }
-            } else if let Some(k) = role.vline {
-                let group = st_v[k as usize];
-                let v = *vpos.entry(group).or_insert_with(&mut fresh);
-                l.vlines[k as usize] = v;
-                Coord::var(v)
-            } else {
-                Coord::var(fresh())
-            };
-            let y = if b.fixes_y() {
-                Coord::fixed(if p.y >= h { th } else { 0.0 })
-            } else if let Some(k) = area.y {
-                area_coord(k, 1, p.y, None, &mut fresh)
-            } else if let Some(k) = block {
-                let bl = l.blocks[k];
-                match attached.get(k).copied().flatten() {
-                    Some(at) if !at.along_x => {
-                        let own = Some((bl[2], p.y - at.centre));
-                        area_coord(at.area, 1, at.centre, own, &mut fresh)
-                    }
-                    _ => Coord::affine(0.0, (bl[1], 1.0), (bl[2], p.y)),
-                }
-            } else if let Some(k) = role.hline {
-                let group = st_h[k as usize];
-                let v = *hpos.entry(group).or_insert_with(&mut fresh);
-                l.hlines[k as usize] = v;
-                Coord::var(v)
-            } else {
-                Coord::var(fresh())
-            };
-            l.x.push(x);
-            l.y.push(y);
+        let mut b = Builder::new(mesh, target, fixed);
+        for (i, (&p, &side)) in mesh.vertices().iter().zip(mesh.boundary()).enumerate() {
+            b.vertex(i, p, side);
         }
-        l.dof = next as usize;
-        for (t, tri) in mesh.triangles().iter().enumerate() {
-            let active = tri
-                .iter()
-                .any(|&v| !l.x[v as usize].is_fixed() || !l.y[v as usize].is_fixed());
-            if active {
-                let similar =
-                    fans.get(t).copied().unwrap_or(false) || mesh.triangle_block(t).is_some();
-                if similar {
-                    l.s_var[t] = [next; 2];
-                    next += 1;
-                } else {
-                    l.s_var[t] = [next, next + 1];
-                    next += 2;
-                }
-            }
-        }
-        l.n = next as usize;
-        l.uses = vec![0; l.n];
-        for z in l.x.iter().chain(&l.y) {
-            for (v, _) in z.terms() {
-                l.uses[v] += 1;
-            }
-        }
-        l
+        b.finish()
     }
 
     /// Number of free position unknowns (the paper's DOF).

@@ -99,6 +99,40 @@ impl FactorColumns {
     }
 }
 
+impl FactorColumns {
+    /// `L Lᵀ + w wᵀ` into the factor values `lx`, for `w` (in the factor's order, zero before
+    /// column `start`) whose non-zeros lie on the elimination tree's path from `start`: the
+    /// path's columns only (Davis and Hager; CSparse's `cs_updown`). `w` is zero again after.
+    /// `None` if a diagonal on the path becomes non-finite or not positive.
+    fn rank_one_update(&self, lx: &mut [f64], w: &mut [f64], start: usize) -> Option<()> {
+        let mut beta = 1.0f64;
+        let mut j = start;
+        while j != usize::MAX {
+            let p = self.diag[j];
+            let alpha = w[j] / lx[p];
+            let beta2 = (beta * beta + alpha * alpha).sqrt();
+            let delta = beta / beta2;
+            let gamma = alpha / (beta2 * beta);
+            lx[p] = delta * lx[p] + gamma * w[j];
+            // A non-finite change reaches a diagonal on its path (every non-zero of the
+            // update lies on it); the factor is then factorized again.
+            if !(lx[p].is_finite() && lx[p] > 0.0) {
+                return None;
+            }
+            w[j] = 0.0;
+            beta = beta2;
+            let rows = &self.rows[self.start[j]..self.end[j]];
+            for (l, &i) in lx[p + 1..p + 1 + rows.len()].iter_mut().zip(rows) {
+                let w1 = w[i];
+                w[i] = w1 - alpha * *l;
+                *l = delta * *l + gamma * w1;
+            }
+            j = self.parent[j];
+        }
+        Some(())
+    }
+}
+
 /// Work memory of [`SparseSystem::update_factor`], kept between calls.
 #[derive(Default)]
 struct UpdateScratch {
@@ -112,6 +146,147 @@ struct UpdateScratch {
     w: Vec<f64>,
 }
 
+/// The values of `H` now and when it was last factored, in its compressed columns.
+struct Change<'a> {
+    col_ptr: &'a [usize],
+    row_idx: &'a [usize],
+    now: &'a [f64],
+    was: &'a [f64],
+}
+
+impl Change<'_> {
+    /// Number of unknowns.
+    fn n(&self) -> usize {
+        self.col_ptr.len() - 1
+    }
+}
+
+impl UpdateScratch {
+    /// The unknowns whose rows of `H` changed, into `support` in the factor's order (`to_factor`
+    /// maps an unknown to its column of the factor) and `slot`; `None` when there are more than
+    /// [`MAX_UPDATE_SUPPORT`], for which a factorization is cheaper.
+    fn gather_support(
+        &mut self,
+        change: &Change<'_>,
+        to_factor: impl Fn(usize) -> usize,
+    ) -> Option<()> {
+        let n = change.n();
+        self.slot.clear();
+        self.slot.resize(n, u32::MAX);
+        self.support.clear();
+        for j in 0..n {
+            for k in change.col_ptr[j]..change.col_ptr[j + 1] {
+                if change.now[k] != change.was[k] {
+                    for v in [change.row_idx[k], j] {
+                        if self.slot[v] == u32::MAX {
+                            if self.support.len() == MAX_UPDATE_SUPPORT {
+                                return None;
+                            }
+                            self.slot[v] = 0;
+                            self.support.push((to_factor(v), v));
+                        }
+                    }
+                }
+            }
+        }
+        self.support.sort_unstable();
+        for (a, &(_, v)) in self.support.iter().enumerate() {
+            self.slot[v] = a as u32;
+        }
+        Some(())
+    }
+
+    /// The change restricted to `support`, dense, lower triangle in the factor's order
+    /// (column-major), into `dense`.
+    fn densify(&mut self, change: &Change<'_>) {
+        let m = self.support.len();
+        self.dense.clear();
+        self.dense.resize(m * m, 0.0);
+        for j in 0..change.n() {
+            let b = self.slot[j];
+            if b == u32::MAX {
+                continue;
+            }
+            for k in change.col_ptr[j]..change.col_ptr[j + 1] {
+                let d = change.now[k] - change.was[k];
+                if d != 0.0 {
+                    let a = self.slot[change.row_idx[k]];
+                    let (r, c) = (a.max(b) as usize, a.min(b) as usize);
+                    self.dense[c * m + r] = d;
+                }
+            }
+        }
+    }
+
+    /// `dense` becomes its Cholesky factor `G`. A negative pivot means a weight went down, a
+    /// vanishing one with entries below it a change that is not semi-definite (an off-diagonal
+    /// entry that changed alone): `None`, no update then. A vanishing pivot with nothing below
+    /// it leaves a zero column (no update along it).
+    fn factor_dense(&mut self) -> Option<()> {
+        let m = self.support.len();
+        let mut scale = 0.0f64;
+        for v in &self.dense {
+            scale = scale.max(v.abs());
+        }
+        let tiny = scale * 1e-13;
+        let negligible = (tiny * scale).sqrt();
+        for c in 0..m {
+            let (head, tail) = self.dense.split_at_mut(c * m);
+            let col = &mut tail[..m];
+            for p in 0..c {
+                let pc = &head[p * m..(p + 1) * m];
+                let f = pc[c];
+                if f != 0.0 {
+                    for (x, &y) in col[c..].iter_mut().zip(&pc[c..]) {
+                        *x -= f * y;
+                    }
+                }
+            }
+            let d = col[c];
+            if d < -tiny * 1e3 {
+                return None;
+            }
+            if d <= tiny {
+                if col[c + 1..].iter().any(|x| x.abs() > negligible) {
+                    return None;
+                }
+                col[c..].fill(0.0);
+                continue;
+            }
+            let s = d.sqrt();
+            col[c..].iter_mut().for_each(|x| *x /= s);
+        }
+        Some(())
+    }
+
+    /// One rank-one update of the factor values `lx` per non-zero column of `G`; how many, or
+    /// `None` when one fails (the factor is then half updated and needs a factorization).
+    fn rank_one_updates(&mut self, cols: &FactorColumns, lx: &mut [f64]) -> Option<usize> {
+        let UpdateScratch {
+            slot,
+            support,
+            dense,
+            w,
+        } = self;
+        let m = support.len();
+        w.clear();
+        w.resize(slot.len(), 0.0);
+        let mut updates = 0;
+        for c in 0..m {
+            let col = &dense[c * m..(c + 1) * m];
+            if col[c] == 0.0 {
+                continue;
+            }
+            for (&x, &(r, _)) in col[c..].iter().zip(&support[c..]) {
+                w[r] = x;
+            }
+            cols.rank_one_update(lx, w, support[c].0)?;
+            updates += 1;
+        }
+        Some(updates)
+    }
+}
+
 /// How [`SparseSystem::solve_warm`] solved.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub(crate) enum Solved {
@@ -122,17 +297,17 @@ pub(crate) enum Solved {
 }
 
 /// faer factorizes supernodally (dense blocks) where its flop count per factor entry is above
-/// this share of its default threshold. The default kept the meshes' systems (a few thousand
-/// unknowns, fill from the scale unknowns' coupling) simplicial, at up to twice the time of
-/// the supernodal factorization (`cargo bench --bench paper_tables`: 9.0 → 4.4 ms on Hex
-/// Points, 13.1 → 7.6 on GC, no size slower by more than noise).
+/// this share of its default threshold. The meshes' systems (a few thousand unknowns, fill
+/// from the scale unknowns' coupling) sit just below the default, where the simplicial
+/// factorization takes about twice the time of the supernodal one (`cargo bench --bench
+/// paper_tables` shows it); a tenth of it puts them on the supernodal side.
 const SUPERNODAL_THRESHOLD: SupernodalThreshold = SupernodalThreshold(0.1);
 
 /// Unknowns whose rows may change for an update to be tried instead of a factorization: a
-/// repair round boosts a few triangles (tens of unknowns), a text hold a few blocks. An update
-/// costs about 1/70 of a factorization on the paper tables' systems (0.05 against 3.5 ms),
-/// 1/120 on a 2010×1628 dashboard's (0.7 against 85 ms), and there are at most as many as
-/// unknowns that changed.
+/// repair round boosts a few triangles (tens of unknowns), a text hold a few blocks. One
+/// rank-one update walks one path of the elimination tree, 1/70 to 1/120 of a factorization's
+/// time on these systems, and there are at most as many as unknowns that changed: up to 64,
+/// the updates never cost much more than the factorization they replace.
 const MAX_UPDATE_SUPPORT: usize = 64;
 
 impl SparseSystem {
@@ -153,8 +328,8 @@ impl SparseSystem {
         self.has_factor = false;
         self.factored = false;
         // The assembly order sorted by (column, row): bucketed by column, then each column's
-        // few entries sorted (61k mesh-like pairs: 1.2 ms, against 3.3 ms for one comparison
-        // sort of them all).
+        // few entries sorted, which is linear in the pairs but for those short sorts (one
+        // comparison sort of them all takes about three times as long on a mesh's pairs).
         let mut start = vec![0u32; n + 1];
         for &(_, j) in pairs {
             start[j as usize + 1] += 1;
@@ -309,126 +484,18 @@ impl SparseSystem {
     /// `None` (the factor then needs a factorization) where that does not apply.
     fn update_factor(&mut self) -> Option<usize> {
         let symbolic = self.symbolic.as_ref()?;
-        let n = self.n;
         let inv = symbolic.perm().map(|p| p.arrays().1);
-        let to_factor = |i: usize| inv.map_or(i, |inv| inv[i]);
+        let change = Change {
+            col_ptr: &self.col_ptr,
+            row_idx: &self.row_idx,
+            now: &self.values,
+            was: &self.factored_values,
+        };
         let u = &mut self.update;
-        u.slot.clear();
-        u.slot.resize(n, u32::MAX);
-        u.support.clear();
-        // The rows that changed.
-        for j in 0..n {
-            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
-                if self.values[k] != self.factored_values[k] {
-                    for v in [self.row_idx[k], j] {
-                        if u.slot[v] == u32::MAX {
-                            if u.support.len() == MAX_UPDATE_SUPPORT {
-                                return None;
-                            }
-                            u.slot[v] = 0;
-                            u.support.push((to_factor(v), v));
-                        }
-                    }
-                }
-            }
-        }
-        u.support.sort_unstable();
-        for (a, &(_, v)) in u.support.iter().enumerate() {
-            u.slot[v] = a as u32;
-        }
-        let m = u.support.len();
-        // The change, dense, lower triangle in the factor's order (column-major).
-        u.dense.clear();
-        u.dense.resize(m * m, 0.0);
-        let mut scale = 0.0f64;
-        for j in 0..n {
-            let b = u.slot[j];
-            if b == u32::MAX {
-                continue;
-            }
-            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let d = self.values[k] - self.factored_values[k];
-                if d != 0.0 {
-                    let a = u.slot[self.row_idx[k]];
-                    let (r, c) = (a.max(b) as usize, a.min(b) as usize);
-                    u.dense[c * m + r] = d;
-                }
-            }
-        }
-        for v in &u.dense {
-            scale = scale.max(v.abs());
-        }
-        // Its Cholesky factor. A negative pivot means a weight went down, a vanishing one
-        // with entries below it a change that is not semi-definite (an off-diagonal entry
-        // that changed alone): no update then.
-        let tiny = scale * 1e-13;
-        let negligible = (tiny * scale).sqrt();
-        for c in 0..m {
-            let (head, tail) = u.dense.split_at_mut(c * m);
-            let col = &mut tail[..m];
-            for p in 0..c {
-                let pc = &head[p * m..(p + 1) * m];
-                let f = pc[c];
-                if f != 0.0 {
-                    for (x, &y) in col[c..].iter_mut().zip(&pc[c..]) {
-                        *x -= f * y;
-                    }
-                }
-            }
-            let d = col[c];
-            if d < -tiny * 1e3 {
-                return None;
-            }
-            if d <= tiny {
-                if col[c + 1..].iter().any(|x| x.abs() > negligible) {
-                    return None;
-                }
-                col[c..].fill(0.0);
-                continue;
-            }
-            let s = d.sqrt();
-            col[c..].iter_mut().for_each(|x| *x /= s);
-        }
-        // One rank-one update per column of that factor.
-        let cols = &self.columns;
-        let lx = &mut self.factor;
-        u.w.clear();
-        u.w.resize(n, 0.0);
-        let mut updates = 0;
-        for c in 0..m {
-            let col = &u.dense[c * m..(c + 1) * m];
-            if col[c] == 0.0 {
-                continue;
-            }
-            for (&x, &(r, _)) in col[c..].iter().zip(&u.support[c..]) {
-                u.w[r] = x;
-            }
-            let mut beta = 1.0f64;
-            let mut j = u.support[c].0;
-            while j != usize::MAX {
-                let p = cols.diag[j];
-                let alpha = u.w[j] / lx[p];
-                let beta2 = (beta * beta + alpha * alpha).sqrt();
-                let delta = beta / beta2;
-                let gamma = alpha / (beta2 * beta);
-                lx[p] = delta * lx[p] + gamma * u.w[j];
-                // A non-finite change reaches a diagonal on its path (every non-zero of the
-                // update lies on it); the factor is then factorized again.
-                if !(lx[p].is_finite() && lx[p] > 0.0) {
-                    return None;
-                }
-                u.w[j] = 0.0;
-                beta = beta2;
-                let rows = &cols.rows[cols.start[j]..cols.end[j]];
-                for (l, &i) in lx[p + 1..p + 1 + rows.len()].iter_mut().zip(rows) {
-                    let w1 = u.w[i];
-                    u.w[i] = w1 - alpha * *l;
-                    *l = delta * *l + gamma * w1;
-                }
-                j = cols.parent[j];
-            }
-            updates += 1;
-        }
+        u.gather_support(&change, |i| inv.map_or(i, |inv| inv[i]))?;
+        u.densify(&change);
+        u.factor_dense()?;
+        let updates = u.rank_one_updates(&self.columns, &mut self.factor)?;
         self.factored_values.copy_from_slice(&self.values);
         Some(updates)
     }

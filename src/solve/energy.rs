@@ -25,18 +25,19 @@
 //!   prior and smoothing ask; `κ` keeps a trace of the paper's similarity for salient content.
 //! * **Jacobian form.** Eq. 8 sums `‖e' − s·e‖²` over a triangle's edges. The same idea written as
 //!   `A·‖J − sI‖²` (the paper's own `∫ S‖J_F − P‖²` of §5.2.1) is still linear, but weighs a
-//!   triangle by its area instead of its edge lengths (measured on the seed-7 stills: fewer
-//!   folds, rounder marks).
+//!   triangle by its area instead of its edge lengths: a mark's fan of long thin triangles is
+//!   held by what it covers, so marks stay rounder and fold less.
 //! * **Slivers.** `Â_t = max(A_t, ζ·Ā)` with `Ā` the mean triangle area: a sliver between a line
 //!   and a label beside it, or between two close lines, keeps its shape as firmly as a triangle
-//!   of that size, instead of flipping at the least push (on a 1920×1080 dashboard at half
-//!   width, `ζ = 0.5` took the folds after the first solve from 529 to 356).
+//!   of that size, instead of flipping at the least push. `ζ = 0.5`: slivers are far smaller
+//!   than half the mean, so they all get the floor, while a triangle of ordinary size keeps
+//!   the weight of its own area.
 //! * **Weights.** `w_t = max(λ_t^p, floor)` with `λ_t` the mean VSM over the triangle's pixels
 //!   (Eq. 9), `p = 4` and `floor = 0.03`. Squaring is not enough contrast: with `λ²` the empty
 //!   background still resists and marks get squeezed. With per-axis scales the floor no longer
-//!   makes empty ground resist a squeeze, only an uneven one: with `0.001` the ground between
-//!   marks folded in whole columns (chart-scatter-01 at half width: 176 folds after the first
-//!   solve, 4 with `0.03`).
+//!   makes empty ground resist a squeeze, only an uneven one; that is what it is for: near 0
+//!   the ground between marks takes a squeeze wherever it lands and folds in whole columns,
+//!   and `0.03` still leaves it about 30 times softer than a mark.
 //! * **Where λ goes in Eq. 12.** Printed, the smoothing term is `(λ_t s_t − λ_n s_n)²`: between an
 //!   empty triangle (`λ ≈ 0`) and a salient one it pulls the salient scale towards zero, so the
 //!   marks next to empty space shrink. We take the weight out of the square, as a coupling
@@ -47,9 +48,8 @@
 //!   the gap keeps its share).
 //! * **Flat triangles** (no edge inside) weigh `λ_t = 0` however salient their colour
 //!   ([`super::weights`]): a header bar or a panel's inside looks the same squeezed, and
-//!   the edges that bound it keep their shape in triangles of their own. On the 24 real
-//!   stills at half width this gave the text blocks the room they need (OCR share of words
-//!   kept 0.656 → 0.692).
+//!   the edges that bound it keep their shape in triangles of their own. The room a flat
+//!   region gives goes to what must keep its size, the text blocks above all.
 //! * **Size prior.** Without it, shrinking a canvas shrinks marks too (the scales are free):
 //!   `μ_t` pulls them towards 1 (towards `δ`, which carries the enhancement of §5.4 and the
 //!   fit of [`super::fit`]; on a growing canvas marks aim at the geometric mean of the axes' scales
@@ -60,6 +60,7 @@
 //! are laid out by [`Layout`].
 
 use super::boundary::{Coord, Layout, FIXED};
+use crate::error::Error;
 use crate::mesh::{Mesh, NONE};
 use glam::DVec2;
 
@@ -119,6 +120,73 @@ impl Default for EnergyParams {
             sliver_area: 0.5,
             free_prior: 1.0,
         }
+    }
+}
+
+/// The range each field of [`EnergyParams`] must lie in, in the order
+/// [`EnergyParams::validate`] checks them. Strengths and exponents are at least 0: a negative
+/// one would make `H` indefinite (no minimum to solve for). Floors, thresholds and shares are
+/// compared with `λ_t` or weights (both at most 1) or with the mean triangle area: above 1 they
+/// would hold empty ground as firmly as fully salient content. The upper bounds of strengths
+/// keep the system's entries far from overflowing (areas reach millions of px²).
+const RANGES: [(&str, f64, f64); 12] = [
+    ("weight_power", 0.0, 16.0),
+    // Above 0: `w_t` is then never 0, so every triangle's shape term is positive definite.
+    ("weight_floor", 1e-9, 1.0),
+    ("prior_threshold", 0.0, 1.0),
+    ("prior_strength", 0.0, 1e6),
+    ("smoothing", 0.0, 1e6),
+    ("text_strength", 0.0, 1e6),
+    ("temporal", 0.0, 1e6),
+    ("shear_floor", 0.0, 1.0),
+    ("similarity", 0.0, 1e6),
+    ("smoothing_floor", 0.0, 1.0),
+    ("sliver_area", 0.0, 1.0),
+    ("free_prior", 0.0, 1e6),
+];
+
+impl EnergyParams {
+    /// Checks every field: finite and within its range (see the fields' docs for what each
+    /// means). The error names the first field out of range, its value and what is allowed.
+    pub fn validate(&self) -> Result<(), Error> {
+        // Destructured whole, so that a new field cannot be added without a check.
+        let EnergyParams {
+            weight_power,
+            weight_floor,
+            prior_threshold,
+            prior_strength,
+            smoothing,
+            text_strength,
+            temporal,
+            shear_floor,
+            similarity,
+            smoothing_floor,
+            sliver_area,
+            free_prior,
+        } = *self;
+        let values = [
+            weight_power,
+            weight_floor,
+            prior_threshold,
+            prior_strength,
+            smoothing,
+            text_strength,
+            temporal,
+            shear_floor,
+            similarity,
+            smoothing_floor,
+            sliver_area,
+            free_prior,
+        ];
+        for ((name, lo, hi), v) in RANGES.into_iter().zip(values) {
+            // NaN is in no range.
+            if !(lo..=hi).contains(&v) {
+                return Err(Error::InvalidOptions(format!(
+                    "{name} {v} is out of range: allowed {lo} to {hi}"
+                )));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -183,6 +251,9 @@ pub(crate) fn weight(p: &EnergyParams, lambda: f64) -> f64 {
 /// local coordinates `z = c + C u`, a local quadratic `zᵀKz` adds `CᵀKC` to `H` and `−CᵀKc`
 /// to `b`; both are walked over every ordered pair of local coordinates, keeping the upper
 /// triangle (`i ≤ j`), which is exactly `H`'s upper triangle.
+///
+/// The walk's order is the pattern's: every term calls `entry` for its pairs even where its
+/// weight is 0 this time (the k-th call is the k-th slot of [`super::cholesky::SparseSystem`]).
 pub(crate) fn assemble(
     mesh: &Mesh,
     layout: &Layout,
@@ -190,13 +261,41 @@ pub(crate) fn assemble(
     terms: &TriangleTerms<'_>,
     params: &EnergyParams,
     rhs: &mut [f64],
-    mut entry: impl FnMut(usize, usize, f64),
+    entry: impl FnMut(usize, usize, f64),
 ) {
     rhs.fill(0.0);
+    let a = Assembly {
+        mesh,
+        layout,
+        geom,
+        terms,
+        params,
+        w: effective_weights(terms, params),
+    };
+    let mut sink = Sink { rhs, entry };
     let tris = mesh.triangles();
-    // An enhanced triangle (§5.4) matters whatever its saliency: it holds the scale asked of
-    // it as firmly as salient content.
-    let w: Vec<f64> = terms
+    let mean_area = mesh.size().width as f64 * mesh.size().height as f64 / tris.len().max(1) as f64;
+    for (t, tri) in tris.iter().enumerate() {
+        if layout.s_var[t][0] == FIXED {
+            continue; // all corners fixed: a constant
+        }
+        // Weights of the diagonal residuals (J00 − δx·a, J11 − δy·b) and of the off-diagonal
+        // ones (J01, J10: shear and rotation), which even empty ground resists a little.
+        let stiff = stiffness(layout, tri, geom[t].area, params.sliver_area * mean_area);
+        let cd = stiff * a.w[t];
+        let co = stiff * a.w[t].max(params.shear_floor * terms.boost[t]);
+        a.shape(&mut sink, t, tri, cd, co);
+        a.size_prior(&mut sink, t, cd);
+    }
+    a.smoothing(&mut sink);
+    a.text(&mut sink);
+    a.temporal(&mut sink);
+}
+
+/// `w_t` times the repair's boost, per triangle. An enhanced triangle (§5.4) matters whatever
+/// its saliency: it holds the scale asked of it as firmly as salient content.
+fn effective_weights(terms: &TriangleTerms<'_>, params: &EnergyParams) -> Vec<f64> {
+    terms
         .lambda
         .iter()
         .zip(terms.boost)
@@ -210,37 +309,61 @@ pub(crate) fn assemble(
                 w * b
             }
         })
-        .collect();
-    // Adds K[a][b] for local coordinates za, zb.
-    let pair = |za: &Coord,
-                zb: &Coord,
-                k: f64,
-                rhs: &mut [f64],
-                entry: &mut dyn FnMut(usize, usize, f64)| {
+        .collect()
+}
+
+/// Where a walk of `H` goes: each entry of its upper triangle to `entry`, in the walk's order,
+/// and the right-hand side into `rhs`. Generic over `entry` so that the per-entry call of the
+/// numeric assembly (the hot loop) is inlined.
+struct Sink<'r, F> {
+    rhs: &'r mut [f64],
+    entry: F,
+}
+
+impl<F: FnMut(usize, usize, f64)> Sink<'_, F> {
+    /// Adds `K[a][b]` for local coordinates `za`, `zb`.
+    #[inline]
+    fn pair(&mut self, za: &Coord, zb: &Coord, k: f64) {
         for (va, ca) in za.terms() {
             for (vb, cb) in zb.terms() {
                 if va <= vb {
-                    entry(va, vb, k * ca * cb);
+                    (self.entry)(va, vb, k * ca * cb);
                 }
             }
             if zb.c != 0.0 {
-                rhs[va] -= k * ca * zb.c;
+                self.rhs[va] -= k * ca * zb.c;
             }
         }
-    };
-    let mean_area = mesh.size().width as f64 * mesh.size().height as f64 / tris.len().max(1) as f64;
-    for (t, tri) in tris.iter().enumerate() {
+    }
+}
+
+/// The inputs of one walk of `H`, shared by its terms.
+struct Assembly<'a, 't> {
+    mesh: &'a Mesh,
+    layout: &'a Layout,
+    geom: &'a [TriangleGeometry],
+    terms: &'a TriangleTerms<'t>,
+    params: &'a EnergyParams,
+    /// [`effective_weights`].
+    w: Vec<f64>,
+}
+
+impl Assembly<'_, '_> {
+    /// Eq. 8–9 on triangle `t`: its Jacobian against its scales times `δ`, the diagonal
+    /// residuals weighted `cd`, shear and rotation `co`.
+    #[inline]
+    fn shape<F: FnMut(usize, usize, f64)>(
+        &self,
+        sink: &mut Sink<'_, F>,
+        t: usize,
+        tri: &[u32; 3],
+        cd: f64,
+        co: f64,
+    ) {
+        let layout = self.layout;
+        let g = &self.geom[t];
         let [sx, sy] = layout.s_var[t];
-        if sx == FIXED {
-            continue; // all corners fixed: a constant
-        }
-        let g = &geom[t];
-        // Weights of the diagonal residuals (J00 − δx·a, J11 − δy·b) and of the off-diagonal
-        // ones (J01, J10: shear and rotation), which even empty ground resists a little.
-        let stiff = stiffness(layout, tri, g.area, params.sliver_area * mean_area);
-        let cd = stiff * w[t];
-        let co = stiff * w[t].max(params.shear_floor * terms.boost[t]);
-        let [dx, dy] = terms.delta[t];
+        let [dx, dy] = self.terms.delta[t];
         let xs = tri.map(|v| layout.x[v as usize]);
         let ys = tri.map(|v| layout.y[v as usize]);
         // Row 0 of J is the gradient of x', row 1 that of y':
@@ -252,97 +375,113 @@ pub(crate) fn assemble(
             for j in 0..3 {
                 for k in 0..3 {
                     let (gj, gk) = (g.grad[j], g.grad[k]);
-                    pair(
-                        &coords[j],
-                        &coords[k],
-                        kx * gj.x * gk.x + ky * gj.y * gk.y,
-                        rhs,
-                        &mut entry,
-                    );
+                    sink.pair(&coords[j], &coords[k], kx * gj.x * gk.x + ky * gj.y * gk.y);
                 }
                 let gj = g.grad[j];
                 let kjs = -cd * d * if comp == 0 { gj.x } else { gj.y };
-                pair(&coords[j], &s, kjs, rhs, &mut entry);
-                pair(&s, &coords[j], kjs, rhs, &mut entry);
+                sink.pair(&coords[j], &s, kjs);
+                sink.pair(&s, &coords[j], kjs);
             }
-            pair(&s, &s, cd * d * d, rhs, &mut entry);
+            sink.pair(&s, &s, cd * d * d);
         }
-        let lambda = terms.lambda[t];
-        let enhanced = terms.enhance.get(t).is_some_and(|&e| e != 1.0);
+    }
+
+    /// The size prior `μ_t` on triangle `t`'s scales (0 below the threshold, but walked all
+    /// the same) and, for a triangle with a scale per axis, the pull `κ·cd·(δx·a − δy·b)²`
+    /// towards similarity.
+    #[inline]
+    fn size_prior<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>, t: usize, cd: f64) {
+        let params = self.params;
+        let [sx, sy] = self.layout.s_var[t];
+        let [dx, dy] = self.terms.delta[t];
+        let lambda = self.terms.lambda[t];
+        let enhanced = self.terms.enhance.get(t).is_some_and(|&e| e != 1.0);
         let mu = if lambda >= params.prior_threshold || enhanced {
-            params.prior_strength * g.area * w[t]
+            params.prior_strength * self.geom[t].area * self.w[t]
         } else {
             0.0
         };
         let (a, b) = (Coord::var(sx), Coord::var(sy));
         if sx == sy {
-            pair(&a, &a, mu, rhs, &mut entry);
-            rhs[sx as usize] += mu;
+            sink.pair(&a, &a, mu);
+            sink.rhs[sx as usize] += mu;
         } else {
-            // Size prior per axis, and the pull towards similarity `κ·cd·(δx·a − δy·b)²`.
             let mu = mu * params.free_prior;
             let ks = params.similarity * cd;
-            pair(&a, &a, mu + ks * dx * dx, rhs, &mut entry);
-            pair(&b, &b, mu + ks * dy * dy, rhs, &mut entry);
-            pair(&a, &b, -ks * dx * dy, rhs, &mut entry);
-            pair(&b, &a, -ks * dx * dy, rhs, &mut entry);
-            rhs[sx as usize] += mu;
-            rhs[sy as usize] += mu;
+            sink.pair(&a, &a, mu + ks * dx * dx);
+            sink.pair(&b, &b, mu + ks * dy * dy);
+            sink.pair(&a, &b, -ks * dx * dy);
+            sink.pair(&b, &a, -ks * dx * dy);
+            sink.rhs[sx as usize] += mu;
+            sink.rhs[sy as usize] += mu;
         }
     }
-    // Eq. 12, weight outside the square, per axis (half each, so that two similar triangles
-    // are tied as strongly as by one shared scale).
-    for (t, nb) in mesh.neighbours().iter().enumerate() {
-        for &n in nb {
-            if n == NONE || (n as usize) < t {
-                continue;
-            }
-            let n = n as usize;
-            if layout.s_var[t][0] == FIXED || layout.s_var[n][0] == FIXED {
-                continue;
-            }
-            let b = params.smoothing
-                * 0.25
-                * (geom[t].area + geom[n].area)
-                * (w[t] * w[n]).sqrt().max(params.smoothing_floor);
-            for axis in 0..2 {
-                let (st, sn) = (
-                    layout.s_var[t][axis] as usize,
-                    layout.s_var[n][axis] as usize,
-                );
-                entry(st, st, b);
-                entry(sn, sn, b);
-                entry(st.min(sn), st.max(sn), -b);
+
+    /// Eq. 12, weight outside the square, per axis (half each, so that two similar triangles
+    /// are tied as strongly as by one shared scale).
+    fn smoothing<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>) {
+        let (layout, geom, w, params) = (self.layout, self.geom, &self.w, self.params);
+        for (t, nb) in self.mesh.neighbours().iter().enumerate() {
+            for &n in nb {
+                if n == NONE || (n as usize) < t {
+                    continue;
+                }
+                let n = n as usize;
+                if layout.s_var[t][0] == FIXED || layout.s_var[n][0] == FIXED {
+                    continue;
+                }
+                let b = params.smoothing
+                    * 0.25
+                    * (geom[t].area + geom[n].area)
+                    * (w[t] * w[n]).sqrt().max(params.smoothing_floor);
+                for axis in 0..2 {
+                    let (st, sn) = (
+                        layout.s_var[t][axis] as usize,
+                        layout.s_var[n][axis] as usize,
+                    );
+                    (sink.entry)(st, st, b);
+                    (sink.entry)(sn, sn, b);
+                    (sink.entry)(st.min(sn), st.max(sn), -b);
+                }
             }
         }
     }
-    // Text blocks: their scale pulled to δ (as large as the space allows, at most 1).
-    if let Some(st) = mesh.structure() {
-        for (k, block) in layout.blocks.iter().enumerate() {
+
+    /// Text blocks: their scale pulled to δ (as large as the space allows, at most 1).
+    fn text<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>) {
+        let Some(st) = self.mesh.structure() else {
+            return;
+        };
+        let terms = self.terms;
+        for (k, block) in self.layout.blocks.iter().enumerate() {
             if block[2] == FIXED {
                 continue;
             }
             let b = &st.text[k];
             let area = ((b.x1 - b.x0) * (b.y1 - b.y0)) as f64;
-            let mu = params.text_strength * area * terms.text_hold.get(k).copied().unwrap_or(1.0);
+            let mu =
+                self.params.text_strength * area * terms.text_hold.get(k).copied().unwrap_or(1.0);
             let sv = block[2] as usize;
-            entry(sv, sv, mu);
-            rhs[sv] += mu * terms.text_targets.get(k).copied().unwrap_or(1.0);
+            (sink.entry)(sv, sv, mu);
+            sink.rhs[sv] += mu * terms.text_targets.get(k).copied().unwrap_or(1.0);
         }
     }
-    // Temporal term: τ·|z − anchor|² on anchored coordinates.
-    let tau = params.temporal;
-    for (v, a) in terms.anchors.iter().enumerate() {
-        let Some((a, k)) = *a else { continue };
-        for (z, target) in [(layout.x[v], a.x), (layout.y[v], a.y)] {
-            if z.is_fixed() {
-                continue;
+
+    /// Temporal term: τ·|z − anchor|² on anchored coordinates.
+    fn temporal<F: FnMut(usize, usize, f64)>(&self, sink: &mut Sink<'_, F>) {
+        let tau = self.params.temporal;
+        for (v, a) in self.terms.anchors.iter().enumerate() {
+            let Some((a, k)) = *a else { continue };
+            for (z, target) in [(self.layout.x[v], a.x), (self.layout.y[v], a.y)] {
+                if z.is_fixed() {
+                    continue;
+                }
+                let shifted = Coord {
+                    c: z.c - target,
+                    ..z
+                };
+                sink.pair(&shifted, &shifted, tau * k);
             }
-            let shifted = Coord {
-                c: z.c - target,
-                ..z
-            };
-            pair(&shifted, &shifted, tau * k, rhs, &mut entry);
         }
     }
 }
@@ -421,4 +560,51 @@ pub(crate) fn energy_of(
         }
     }
     e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_valid() {
+        EnergyParams::default().validate().unwrap();
+    }
+
+    /// Every field is checked: below its range, above it, NaN and infinite are refused with
+    /// the field's name and range; its bounds are allowed.
+    #[test]
+    fn each_field_out_of_range_is_refused_by_name() {
+        type Field = fn(&mut EnergyParams) -> &mut f64;
+        let fields: [(&str, Field); 12] = [
+            ("weight_power", |p| &mut p.weight_power),
+            ("weight_floor", |p| &mut p.weight_floor),
+            ("prior_threshold", |p| &mut p.prior_threshold),
+            ("prior_strength", |p| &mut p.prior_strength),
+            ("smoothing", |p| &mut p.smoothing),
+            ("text_strength", |p| &mut p.text_strength),
+            ("temporal", |p| &mut p.temporal),
+            ("shear_floor", |p| &mut p.shear_floor),
+            ("similarity", |p| &mut p.similarity),
+            ("smoothing_floor", |p| &mut p.smoothing_floor),
+            ("sliver_area", |p| &mut p.sliver_area),
+            ("free_prior", |p| &mut p.free_prior),
+        ];
+        for (name, field) in fields {
+            let &(_, lo, hi) = RANGES.iter().find(|r| r.0 == name).unwrap();
+            let below = if lo > 0.0 { lo / 2.0 } else { -1e-3 };
+            for bad in [below, hi * 1.5, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut p = EnergyParams::default();
+                *field(&mut p) = bad;
+                let e = p.validate().expect_err(name).to_string();
+                let want = format!("{name} {bad} is out of range: allowed {lo} to {hi}");
+                assert!(e.contains(&want), "{e}");
+            }
+            for ok in [lo, hi] {
+                let mut p = EnergyParams::default();
+                *field(&mut p) = ok;
+                p.validate().unwrap();
+            }
+        }
+    }
 }

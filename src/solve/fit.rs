@@ -103,119 +103,170 @@ fn salient_room(
 ) -> [f64; 2] {
     let grid = vsm.grid_size();
     let sc = vsm.scale() as usize;
-    let (w, h) = (grid.width as usize, grid.height as usize);
     // Pixel lengths in map cells.
-    let min_thickness = MIN_THICKNESS_PX.div_ceil(sc);
-    let max_gap = MAX_GAP_PX.div_ceil(sc as u32);
+    let cells = MarkCells {
+        w: grid.width as usize,
+        h: grid.height as usize,
+        sc,
+        threshold,
+        min_thickness: MIN_THICKNESS_PX.div_ceil(sc),
+        max_gap: MAX_GAP_PX.div_ceil(sc as u32),
+    };
     // Text has a fit of its own ([`text_fit_scales`]): its pixels do not count here.
     let mut masked;
     let imp = if text.is_empty() {
         vsm.importance()
     } else {
         masked = vsm.importance().to_vec();
-        for b in text {
-            let (x0, x1) = (
-                (b.x0 as usize / sc).min(w),
-                (b.x1 as usize).div_ceil(sc).min(w),
-            );
-            for y in (b.y0 as usize / sc).min(h)..(b.y1 as usize).div_ceil(sc).min(h) {
-                masked[y * w + x0..y * w + x1].fill(0.0);
-            }
-        }
+        cells.mask_text(&mut masked, text);
         &masked[..]
     };
-    // Row widths: mark pixels in vertical runs of at least MIN_THICKNESS_PX. A pixel's run
-    // is known when the run ends, so rows are filled in per column run, walking rows in order
-    // (per-column counters, row-major reads).
-    let mut thick_v = vec![false; w * h];
-    let mut run = vec![0u32; w];
-    for y in 0..=h {
-        for x in 0..w {
-            if y < h && imp[y * w + x] >= threshold {
-                run[x] += 1;
-                continue;
-            }
-            let len = run[x] as usize;
-            if len >= min_thickness {
-                for yy in y - len..y {
-                    thick_v[yy * w + x] = true;
-                }
-            }
-            run[x] = 0;
-        }
-    }
-    let rows: Vec<u32> = thick_v
-        .chunks_exact(w)
-        .map(|r| extent(r.iter().copied(), max_gap) * sc as u32)
-        .collect();
-    // Column heights: mark pixels in horizontal runs of at least as many, with the gap logic
-    // of `extent` run per column through per-column state.
-    let mut cols = vec![0u32; w];
-    let mut gap: Vec<Option<u32>> = vec![None; w];
-    for y in 0..h {
-        let row = &imp[y * w..][..w];
-        let mut len = 0usize;
-        for x in 0..=w {
-            if x < w && row[x] >= threshold {
-                len += 1;
-                continue;
-            }
-            let thick = len >= min_thickness;
-            for xx in x - len..x {
-                extent_step(&mut cols[xx], &mut gap[xx], thick, max_gap);
-            }
-            if x < w {
-                extent_step(&mut cols[x], &mut gap[x], false, max_gap);
-            }
-            len = 0;
-        }
-    }
-    // A row's text keeps the width its own fit gives it ([`text_fit_scales`]); the salient
-    // content beside it shares what is left. Without this a legend beside a waffle chart is
-    // squeezed to unreadable so that the chart can keep the scale the whole row would allow.
-    let mut text_rows = vec![0f64; h];
-    let mut text_cols = vec![0f64; w];
-    for (k, b) in text.iter().enumerate() {
-        let s = text_scales.get(k).copied().unwrap_or(1.0);
-        let (x0, x1) = (
+    let rows = cells.row_extents(imp);
+    let cols = cells.column_extents(imp);
+    let (text_rows, text_cols) = cells.text_lengths(text, text_scales);
+    let (tw, th) = (target.width as f64, target.height as f64);
+    // Rows were counted in image pixels, columns in map cells.
+    let fit_x = percentile_room(&rows, &text_rows, 1.0, tw);
+    let fit_y = percentile_room(&cols, &text_cols, sc as f64, th);
+    [fit_x, fit_y]
+}
+
+/// The importance map's grid (`w × h` cells of `sc` pixels) and what counts as a mark on it:
+/// importance at least `threshold`, in runs of at least `min_thickness` cells across the line
+/// measured, with gaps up to `max_gap` cells kept with the marks around them.
+struct MarkCells {
+    w: usize,
+    h: usize,
+    sc: usize,
+    threshold: f32,
+    min_thickness: usize,
+    max_gap: u32,
+}
+
+impl MarkCells {
+    /// The cells `(x0, x1, y0, y1)` (ends excluded) a text block covers, in the grid.
+    fn cells_of(&self, b: &crate::structure::TextBlock) -> (usize, usize, usize, usize) {
+        let (sc, w, h) = (self.sc, self.w, self.h);
+        (
             (b.x0 as usize / sc).min(w),
             (b.x1 as usize).div_ceil(sc).min(w),
-        );
-        let (y0, y1) = (
             (b.y0 as usize / sc).min(h),
             (b.y1 as usize).div_ceil(sc).min(h),
-        );
-        for r in &mut text_rows[y0..y1] {
-            *r += s * b.x1.saturating_sub(b.x0) as f64;
-        }
-        for c in &mut text_cols[x0..x1] {
-            *c += s * b.y1.saturating_sub(b.y0) as f64;
+        )
+    }
+
+    /// Zeroes the importance under every text block.
+    fn mask_text(&self, imp: &mut [f32], text: &[crate::structure::TextBlock]) {
+        let w = self.w;
+        for b in text {
+            let (x0, x1, y0, y1) = self.cells_of(b);
+            for y in y0..y1 {
+                imp[y * w + x0..y * w + x1].fill(0.0);
+            }
         }
     }
-    let (tw, th) = (target.width as f64, target.height as f64);
-    // Per line, the scale at which its salient extent fits beside its text; the low
-    // percentile of those (the 98th percentile of extents when there is no text).
-    let fit = |extents: &[u32], text: &[f64], unit: f64, out: f64| -> f64 {
-        let mut f: Vec<f64> = extents
-            .iter()
-            .zip(text)
-            .map(|(&e, &t)| {
-                let e = e as f64 * unit;
-                if e > 0.0 {
-                    (FILL * out - t).max(0.0) / e
-                } else {
-                    f64::INFINITY
+
+    /// Per row, the pixels its marks keep ([`extent`]), counting only mark cells in vertical
+    /// runs of at least `min_thickness` (a horizontal line shrinks along its length for free).
+    /// A cell's run is known when the run ends, so rows are filled in per column run, walking
+    /// rows in order (per-column counters, row-major reads).
+    fn row_extents(&self, imp: &[f32]) -> Vec<u32> {
+        let (w, h) = (self.w, self.h);
+        let mut thick_v = vec![false; w * h];
+        let mut run = vec![0u32; w];
+        for y in 0..=h {
+            for x in 0..w {
+                if y < h && imp[y * w + x] >= self.threshold {
+                    run[x] += 1;
+                    continue;
                 }
-            })
-            .collect();
-        f.sort_unstable_by(f64::total_cmp);
-        let i = ((f.len() as f64 - 1.0) * (1.0 - PERCENTILE)).round() as usize;
-        f.get(i).copied().unwrap_or(f64::INFINITY)
-    };
-    // Rows were counted in image pixels, columns in map cells.
-    let fit_x = fit(&rows, &text_rows, 1.0, tw);
-    let fit_y = fit(&cols, &text_cols, sc as f64, th);
-    [fit_x, fit_y]
+                let len = run[x] as usize;
+                if len >= self.min_thickness {
+                    for yy in y - len..y {
+                        thick_v[yy * w + x] = true;
+                    }
+                }
+                run[x] = 0;
+            }
+        }
+        thick_v
+            .chunks_exact(w)
+            .map(|r| extent(r.iter().copied(), self.max_gap) * self.sc as u32)
+            .collect()
+    }
+
+    /// Per column, in cells, what [`MarkCells::row_extents`] is per row: mark cells in
+    /// horizontal runs of at least `min_thickness`, with the gap logic of [`extent`] run per
+    /// column through per-column state (row-major reads).
+    fn column_extents(&self, imp: &[f32]) -> Vec<u32> {
+        let (w, h) = (self.w, self.h);
+        let mut cols = vec![0u32; w];
+        let mut gap: Vec<Option<u32>> = vec![None; w];
+        for y in 0..h {
+            let row = &imp[y * w..][..w];
+            let mut len = 0usize;
+            for x in 0..=w {
+                if x < w && row[x] >= self.threshold {
+                    len += 1;
+                    continue;
+                }
+                let thick = len >= self.min_thickness;
+                for xx in x - len..x {
+                    extent_step(&mut cols[xx], &mut gap[xx], thick, self.max_gap);
+                }
+                if x < w {
+                    extent_step(&mut cols[x], &mut gap[x], false, self.max_gap);
+                }
+                len = 0;
+            }
+        }
+        cols
+    }
+
+    /// Per row and per column, the output pixels the text on it keeps at its own fit
+    /// ([`text_fit_scales`]); the salient content beside it shares what is left. Without this
+    /// a legend beside a waffle chart is squeezed to unreadable so that the chart can keep the
+    /// scale the whole row would allow.
+    fn text_lengths(
+        &self,
+        text: &[crate::structure::TextBlock],
+        text_scales: &[f64],
+    ) -> (Vec<f64>, Vec<f64>) {
+        let mut text_rows = vec![0f64; self.h];
+        let mut text_cols = vec![0f64; self.w];
+        for (k, b) in text.iter().enumerate() {
+            let s = text_scales.get(k).copied().unwrap_or(1.0);
+            let (x0, x1, y0, y1) = self.cells_of(b);
+            for r in &mut text_rows[y0..y1] {
+                *r += s * b.x1.saturating_sub(b.x0) as f64;
+            }
+            for c in &mut text_cols[x0..x1] {
+                *c += s * b.y1.saturating_sub(b.y0) as f64;
+            }
+        }
+        (text_rows, text_cols)
+    }
+}
+
+/// Per line, the scale at which its salient extent (`extents` times `unit` pixels) fits beside
+/// its text in `FILL` of `out` pixels; the low [`PERCENTILE`] of those (the 98th percentile of
+/// extents when there is no text). Infinite without salient content.
+fn percentile_room(extents: &[u32], text: &[f64], unit: f64, out: f64) -> f64 {
+    let mut f: Vec<f64> = extents
+        .iter()
+        .zip(text)
+        .map(|(&e, &t)| {
+            let e = e as f64 * unit;
+            if e > 0.0 {
+                (FILL * out - t).max(0.0) / e
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
+    f.sort_unstable_by(f64::total_cmp);
+    let i = ((f.len() as f64 - 1.0) * (1.0 - PERCENTILE)).round() as usize;
+    f.get(i).copied().unwrap_or(f64::INFINITY)
 }
 
 /// The scale each text block can keep, at most 1.

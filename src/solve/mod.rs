@@ -11,6 +11,7 @@ mod boundary;
 mod cholesky;
 mod energy;
 mod fit;
+mod holds;
 mod locate;
 mod repair;
 mod snapping;
@@ -230,39 +231,14 @@ pub struct Solver {
     rhs: Vec<f64>,
 }
 
-/// What one solve with repair rounds produced.
-struct Outcome {
+/// A solution of the system: positions on the renderer's grid and the triangles' scales, and
+/// the triangles those positions fold.
+#[derive(Clone)]
+struct Solution {
     positions: Vec<DVec2>,
     scales: Vec<[f64; 2]>,
-    stats: SolveStats,
-    /// Triangles still folded.
     folded: Vec<usize>,
 }
-
-/// A text block that a solve brought to at least this share of its target scale is then held
-/// at the target ([`TEXT_HOLD`] times as firmly) and the system solved again: text at exactly
-/// its size is copied crisp, a few per cent short of it is resampled and blurs.
-const PROMOTE: f64 = 0.85;
-const TEXT_HOLD: f64 = 100.0;
-/// Small type (glyphs of [`SMALL_GLYPH_PX`] or less) is held from this share of its target
-/// on, once the rest is held: at 0.75 a 12-px legend reads 9 px tall and OCR loses it, while a
-/// 20-px title still reads at 0.65. On the 24 real stills at 0.45, 0.5 and 0.55 of the width
-/// the OCR share of words kept averages 0.687 (0.678 before this stage and the merging of
-/// lines found twice; from 0.7 of the target 0.681; glyphs up to 16 px 0.671).
-const PROMOTE_SMALL: f64 = 0.75;
-const SMALL_GLYPH_PX: u32 = 13;
-
-/// Which text [`Solver::hold_text`] holds.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-enum HoldStage {
-    /// Every block near its target.
-    All,
-    /// Small type further from it.
-    Small,
-}
-
-/// Solves with held text before a hold stage is given up.
-const HOLD_ATTEMPTS: usize = 3;
 
 /// Folds after the first solve that local untangling may take care of.
 const FEW_FOLDS: usize = 8;
@@ -344,12 +320,14 @@ impl Solver {
         let (positions, scales, stats) = loop {
             weights::triangle_saliency(mesh, vsm, hold_fans, &mut self.lambda);
             let layout = Layout::new(mesh, target);
-            let Outcome {
-                mut positions,
-                scales,
+            let (
+                Solution {
+                    mut positions,
+                    scales,
+                    folded: bad,
+                },
                 mut stats,
-                folded: bad,
-            } = self.solve_with(mesh, layout, target, fit)?;
+            ) = self.solve_with(mesh, layout, target, fit)?;
             if !bad.is_empty() {
                 let vt = repair::VertexTriangles::new(mesh);
                 stats.untangled =
@@ -401,12 +379,14 @@ impl Solver {
         self.anchors.clear();
         self.anchors.extend_from_slice(anchors);
         let layout = Layout::with_fixed(mesh, target, fixed);
-        let Outcome {
-            positions,
-            scales,
+        let (
+            Solution {
+                positions,
+                scales,
+                folded: bad,
+            },
             stats,
-            folded: bad,
-        } = self.solve_with(mesh, layout, target, salient_fit)?;
+        ) = self.solve_with(mesh, layout, target, salient_fit)?;
         if !bad.is_empty() {
             return Ok(None);
         }
@@ -419,45 +399,55 @@ impl Solver {
     }
 
     /// Solves with the current `λ_t` on `layout`, the size prior aiming at `fit` along x and y
-    /// (Eq. 13's `δ`; `fit.similar` for what keeps its shape), with the repair rounds;
-    /// returns snapped positions, scales, the stats and the triangles still folded.
+    /// (Eq. 13's `δ`; `fit.similar` for what keeps its shape): undoes a few folds locally or
+    /// else by repair rounds, holds text near its target at it, and snaps the structure to the
+    /// pixel grid; returns the solution (whose `folded` are the triangles still folded) and the
+    /// stats.
     fn solve_with(
         &mut self,
         mesh: &Mesh,
         layout: Layout,
         target: Size,
         fit: SalientFit,
-    ) -> Result<Outcome, Error> {
-        let nt = mesh.triangles().len();
-        let similar_scale = fit.similar;
+    ) -> Result<(Solution, SolveStats), Error> {
         let mut stats = SolveStats {
-            salient_scale: similar_scale,
+            salient_scale: fit.similar,
             salient_fit: fit.free,
             ..SolveStats::default()
         };
         self.layout = layout;
         stats.text_blocks = self.layout.blocks.len();
-        // The assembly's order of entries depends on the layout, the geometry and which
-        // vertices carry a temporal anchor.
-        let anchored = {
-            use std::hash::{Hash, Hasher};
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            for a in &self.anchors {
-                a.is_some().hash(&mut h);
+        self.reset_terms(mesh, fit);
+        stats.symbolic = self.ensure_pattern(mesh)?;
+        stats.unknowns = self.layout.n;
+        stats.dof = self.layout.dof();
+        stats.nnz = self.system.nnz();
+
+        let mut sol = self.numeric_solve(mesh)?;
+        stats.folds_first_solve = sol.folded.len();
+        self.untangle_few(mesh, &mut sol, &mut stats);
+        self.repair_rounds(mesh, &mut sol, &mut stats)?;
+        self.hold_text_in_stages(mesh, target, &mut sol, &mut stats)?;
+        if sol.folded.is_empty() {
+            if let Some((snapped, n)) = snapping::snap_structure(mesh, &self.layout, &self.rhs) {
+                sol.positions = snapped;
+                stats.snapped = n;
             }
-            h.finish()
-        };
-        let key = self.layout.pattern_key(mesh)
-            ^ geometry_key(mesh).rotate_left(1)
-            ^ anchored.rotate_left(2);
+        }
+        Ok((sol, stats))
+    }
+
+    /// Starts this solve's per-triangle terms afresh: no repair boost, no text held, and the
+    /// size prior's targets `δ` for `fit`.
+    fn reset_terms(&mut self, mesh: &Mesh, fit: SalientFit) {
         self.boost.clear();
-        self.boost.resize(nt, 1.0);
+        self.boost.resize(mesh.triangles().len(), 1.0);
         self.text_hold.clear();
         self.text_hold.resize(self.layout.blocks.len(), 1.0);
         self.delta.clear();
         self.delta.extend(self.layout.s_var.iter().map(|&[a, b]| {
             if a == b {
-                [similar_scale; 2]
+                [fit.similar; 2]
             } else {
                 fit.free
             }
@@ -478,136 +468,98 @@ impl Solver {
                 }
             }
         }
-        if self.topology != Some(key) {
-            self.geom = energy::geometry(mesh);
-            self.pairs.clear();
-            self.rhs.clear();
-            self.rhs.resize(self.layout.n, 0.0);
-            let terms = energy::TriangleTerms {
-                lambda: &self.lambda,
-                boost: &self.boost,
-                delta: &self.delta,
-                anchors: &self.anchors,
-                text_targets: &self.text_targets,
-                text_hold: &self.text_hold,
-                enhance: &self.enhance,
-            };
-            let pairs = &mut self.pairs;
-            energy::assemble(
-                mesh,
-                &self.layout,
-                &self.geom,
-                &terms,
-                &self.params,
-                &mut self.rhs,
-                |i, j, _| pairs.push((i as u32, j as u32)),
-            );
-            self.system.set_pattern(self.layout.n, &self.pairs)?;
-            self.topology = Some(key);
-            stats.symbolic = true;
-        }
-        stats.unknowns = self.layout.n;
-        stats.dof = self.layout.dof();
-        stats.nnz = self.system.nnz();
+    }
 
-        let mut pos = self.numeric_solve(mesh)?;
-        let mut bad = repair::folded(mesh, &pos.0);
-        stats.folds_first_solve = bad.len();
-        // A few folds in empty ground are undone locally (moving a vertex or two towards its
-        // neighbours) instead of by solving the whole system again with them held firmer.
-        if !bad.is_empty()
-            && bad.len() <= FEW_FOLDS
-            && bad
+    /// A hash of what the assembly's order of entries depends on: the layout, the geometry
+    /// and which vertices carry a temporal anchor. Equal keys share the sparsity pattern and
+    /// its symbolic factorization.
+    fn system_key(&self, mesh: &Mesh) -> u64 {
+        let anchored = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            for a in &self.anchors {
+                a.is_some().hash(&mut h);
+            }
+            h.finish()
+        };
+        self.layout.pattern_key(mesh) ^ geometry_key(mesh).rotate_left(1) ^ anchored.rotate_left(2)
+    }
+
+    /// Sets the system's pattern (and computes its symbolic factorization) unless the last
+    /// solve's still holds; whether it did.
+    fn ensure_pattern(&mut self, mesh: &Mesh) -> Result<bool, Error> {
+        let key = self.system_key(mesh);
+        if self.topology == Some(key) {
+            return Ok(false);
+        }
+        self.geom = energy::geometry(mesh);
+        self.pairs.clear();
+        self.rhs.clear();
+        self.rhs.resize(self.layout.n, 0.0);
+        let terms = energy::TriangleTerms {
+            lambda: &self.lambda,
+            boost: &self.boost,
+            delta: &self.delta,
+            anchors: &self.anchors,
+            text_targets: &self.text_targets,
+            text_hold: &self.text_hold,
+            enhance: &self.enhance,
+        };
+        let pairs = &mut self.pairs;
+        energy::assemble(
+            mesh,
+            &self.layout,
+            &self.geom,
+            &terms,
+            &self.params,
+            &mut self.rhs,
+            |i, j, _| pairs.push((i as u32, j as u32)),
+        );
+        self.system.set_pattern(self.layout.n, &self.pairs)?;
+        self.topology = Some(key);
+        Ok(true)
+    }
+
+    /// A few folds in empty ground after the first solve are undone locally (moving a vertex
+    /// or two towards its neighbours) instead of by solving the whole system again with them
+    /// held firmer; not next to a mark, whose ring moved would dent it.
+    fn untangle_few(&mut self, mesh: &Mesh, sol: &mut Solution, stats: &mut SolveStats) {
+        let bad = &sol.folded;
+        if bad.is_empty()
+            || bad.len() > FEW_FOLDS
+            || !bad
                 .iter()
                 .all(|&t| self.lambda[t] < self.params.prior_threshold)
         {
-            let vt = repair::VertexTriangles::new(mesh);
-            // Not next to a mark: moving its ring would dent it.
-            let fans = mesh.fan_triangles();
-            let by_mark = bad.iter().any(|&t| {
-                mesh.triangles()[t].iter().any(|&v| {
-                    vt.of(v as usize)
-                        .iter()
-                        .any(|&u| fans.get(u as usize).copied().unwrap_or(false))
-                })
-            });
-            if !by_mark {
-                let mut local = pos.0.clone();
-                let moved = repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut local);
-                if repair::folded(mesh, &local).is_empty() {
-                    // Untangling moves private coordinates only (one unknown each): the
-                    // solution vector, which snapping reads, takes the moved values too.
-                    for (v, (p, q)) in local.iter().zip(&pos.0).enumerate() {
-                        if p == q {
-                            continue;
-                        }
-                        for (z, c) in [(&self.layout.x[v], p.x), (&self.layout.y[v], p.y)] {
-                            if let Some(var) = z.single().filter(|_| self.layout.is_private(z)) {
-                                self.rhs[var as usize] = c;
-                            }
-                        }
-                    }
-                    pos.0 = local;
-                    stats.untangled = moved;
-                    bad.clear();
-                }
-            }
+            return;
         }
-        self.repair_rounds(mesh, &mut pos, &mut bad, &mut stats)?;
-        // Text near its target is held there, in stages: first every block near it, then
-        // small type a little further from it (small glyphs are the first to become illegible
-        // when resampled, a large title reads well a third smaller). A stage that leaves folds
-        // however its blocks are released is undone, and the stages before it stand.
-        for stage in [HoldStage::All, HoldStage::Small] {
-            if !bad.is_empty() {
-                break;
-            }
-            // What stands if this stage cannot settle: taken before it holds anything.
-            let before = (
-                pos.clone(),
-                self.rhs.clone(),
-                self.boost.clone(),
-                self.text_hold.clone(),
-            );
-            if self.hold_text(mesh, stage) == 0 {
+        let vt = repair::VertexTriangles::new(mesh);
+        if next_to_a_mark(mesh, &vt, bad) {
+            return;
+        }
+        let mut local = sol.positions.clone();
+        let moved = repair::untangle(mesh, &self.layout, &self.lambda, &vt, &mut local);
+        if repair::folded(mesh, &local).is_empty() {
+            self.take_untangled(&local, &sol.positions);
+            sol.positions = local;
+            stats.untangled = moved;
+            sol.folded.clear();
+        }
+    }
+
+    /// Untangling moves private coordinates only (one unknown each): the solution vector,
+    /// which snapping reads, takes the moved values (`moved` against `solved`) too.
+    fn take_untangled(&mut self, moved: &[DVec2], solved: &[DVec2]) {
+        for (v, (p, q)) in moved.iter().zip(solved).enumerate() {
+            if p == q {
                 continue;
             }
-            let mut rounds = SolveStats::default();
-            let mut settled = false;
-            for _ in 0..HOLD_ATTEMPTS {
-                pos = self.numeric_solve(mesh)?;
-                bad = repair::folded(mesh, &pos.0);
-                self.repair_rounds(mesh, &mut pos, &mut bad, &mut rounds)?;
-                if bad.is_empty() {
-                    settled = true;
-                    break;
-                }
-                // Where folds remain, the held blocks across the squeeze from them go back
-                // to their usual firmness.
-                if !self.release_text_at(mesh, target, &bad, &before.3) {
-                    break;
+            for (z, c) in [(&self.layout.x[v], p.x), (&self.layout.y[v], p.y)] {
+                if let Some(var) = z.single().filter(|_| self.layout.is_private(z)) {
+                    self.rhs[var as usize] = c;
                 }
             }
-            stats.repair_rounds += rounds.repair_rounds;
-            if !settled {
-                // No room after all: the solution before this stage stands.
-                (pos, self.rhs, self.boost, self.text_hold) = before;
-                bad.clear();
-            }
         }
-        stats.text_held = self.text_hold.iter().filter(|&&h| h > 1.0).count();
-        if bad.is_empty() {
-            if let Some((snapped, n)) = snapping::snap_structure(mesh, &self.layout, &self.rhs) {
-                pos.0 = snapped;
-                stats.snapped = n;
-            }
-        }
-        Ok(Outcome {
-            positions: pos.0,
-            scales: pos.1,
-            stats,
-            folded: bad,
-        })
     }
 
     /// Re-solves with raised weights on folded triangles until none is left or the rounds are
@@ -615,106 +567,24 @@ impl Solver {
     fn repair_rounds(
         &mut self,
         mesh: &Mesh,
-        pos: &mut (Vec<DVec2>, Vec<[f64; 2]>),
-        bad: &mut Vec<usize>,
+        sol: &mut Solution,
         stats: &mut SolveStats,
     ) -> Result<(), Error> {
         let mut rounds = 0;
-        while !bad.is_empty() && rounds < REPAIR_ROUNDS {
-            for &t in bad.iter() {
+        while !sol.folded.is_empty() && rounds < REPAIR_ROUNDS {
+            for &t in sol.folded.iter() {
                 self.boost[t] *= REPAIR_FACTOR;
             }
-            *pos = self.numeric_solve(mesh)?;
-            *bad = repair::folded(mesh, &pos.0);
+            *sol = self.numeric_solve(mesh)?;
             rounds += 1;
         }
         stats.repair_rounds += rounds;
         Ok(())
     }
 
-    /// Releases the blocks this stage held (not held in `earlier`) that lie across the
-    /// squeeze from a folded triangle (the same rows where the width shrinks, the same columns
-    /// where the height does), or all of this stage's if none does; whether any was held.
-    fn release_text_at(
-        &mut self,
-        mesh: &Mesh,
-        target: Size,
-        folded: &[usize],
-        earlier: &[f64],
-    ) -> bool {
-        let Some(st) = mesh.structure() else {
-            return false;
-        };
-        let (rows, cols) = (
-            target.width < mesh.size().width,
-            target.height < mesh.size().height,
-        );
-        let spans: Vec<[f64; 4]> = folded
-            .iter()
-            .map(|&t| {
-                let p = mesh.triangle_points(t);
-                let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-                [lo.x, lo.y, hi.x, hi.y]
-            })
-            .collect();
-        let mut released = false;
-        for ((b, hold), &was) in st.text.iter().zip(self.text_hold.iter_mut()).zip(earlier) {
-            if was > 1.0 {
-                continue; // held by an earlier stage, which settled
-            }
-            let across = spans.iter().any(|f| {
-                (rows && (b.y0 as f64) < f[3] && (b.y1 as f64) > f[1])
-                    || (cols && (b.x0 as f64) < f[2] && (b.x1 as f64) > f[0])
-            });
-            if across && *hold > 1.0 {
-                *hold = 1.0;
-                released = true;
-            }
-        }
-        if !released {
-            for (hold, &was) in self.text_hold.iter_mut().zip(earlier) {
-                if was <= 1.0 && *hold > 1.0 {
-                    *hold = 1.0;
-                    released = true;
-                }
-            }
-        }
-        released
-    }
-
-    /// Holds every text block of `stage` that the last solve (in `rhs`) brought near its
-    /// target and that is not held yet; how many.
-    fn hold_text(&mut self, mesh: &Mesh, stage: HoldStage) -> usize {
-        let mut held = 0;
-        for (k, b) in self.layout.blocks.iter().enumerate() {
-            if b[2] == FIXED {
-                continue;
-            }
-            let target = self.text_targets.get(k).copied().unwrap_or(1.0);
-            if self.text_hold[k] > 1.0 {
-                continue;
-            }
-            let promote = match stage {
-                HoldStage::All => PROMOTE,
-                HoldStage::Small => {
-                    let glyph = mesh.structure().and_then(|st| st.text.get(k));
-                    if glyph.is_none_or(|t| t.line_height > SMALL_GLYPH_PX) {
-                        continue;
-                    }
-                    PROMOTE_SMALL
-                }
-            };
-            if self.rhs[b[2] as usize] >= promote * target {
-                self.text_hold[k] = TEXT_HOLD;
-                held += 1;
-            }
-        }
-        held
-    }
-
     /// Assembles values for the current pattern, factorizes and solves; returns snapped
-    /// positions and scales.
-    fn numeric_solve(&mut self, mesh: &Mesh) -> Result<(Vec<DVec2>, Vec<[f64; 2]>), Error> {
+    /// positions, scales and the triangles folded.
+    fn numeric_solve(&mut self, mesh: &Mesh) -> Result<Solution, Error> {
         self.rhs.clear();
         self.rhs.resize(self.layout.n, 0.0);
         self.system.clear_values();
@@ -763,8 +633,26 @@ impl Solver {
                 [(a1 / a0).max(0.0).sqrt(); 2]
             })
             .collect();
-        Ok((positions, scales))
+        let folded = repair::folded(mesh, &positions);
+        Ok(Solution {
+            positions,
+            scales,
+            folded,
+        })
     }
+}
+
+/// Whether a triangle of `folded` has a corner on a mark's fan (`vt`: each vertex's
+/// triangles).
+fn next_to_a_mark(mesh: &Mesh, vt: &repair::VertexTriangles, folded: &[usize]) -> bool {
+    let fans = mesh.fan_triangles();
+    folded.iter().any(|&t| {
+        mesh.triangles()[t].iter().any(|&v| {
+            vt.of(v as usize)
+                .iter()
+                .any(|&u| fans.get(u as usize).copied().unwrap_or(false))
+        })
+    })
 }
 
 /// A hash of the source geometry (the per-triangle data kept with the pattern depends on it).

@@ -4,16 +4,16 @@
 //! The repair is kept local, in three steps, each only if the previous one left folds:
 //! 1. re-solve with the weights of the folded triangles tripled, up to eight rounds (same
 //!    pattern; the factor is updated by rank-one updates where few unknowns changed, else
-//!    factorized numerically again; done by the caller, [`super::Solver`]). On the 24
-//!    real stills at half width, three rounds left folds on 5 that needed a global blend; eight
-//!    leave none for the later steps;
+//!    factorized numerically again; done by the caller, [`super::Solver`]). A round costs a
+//!    few rank-one updates, a global blend the whole picture's quality, so there are enough
+//!    rounds (eight) that crowded stills rarely leave the later steps anything to do;
 //! 2. untangle: move the free vertices of folded triangles, least salient first, towards the
 //!    centroid of their neighbours while that raises the smallest incident area;
 //! 3. blend towards linear scaling (always fold-free) only around what is still folded, with a
 //!    weight that fades over a few rings of triangles; the global blend is the last guarantee.
 //!
-//! A global blend from the start is valid but costs quality everywhere (DESIGN.md measured marker
-//! roundness falling from ~0.85 to ~0.57), which is why it comes last.
+//! A global blend from the start is valid but costs quality everywhere (marks lose much of
+//! their roundness; DESIGN.md has the measurement), which is why it comes last.
 
 use super::boundary::Layout;
 use crate::mesh::Mesh;
