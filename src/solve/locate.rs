@@ -129,23 +129,24 @@ mod tests {
 
     #[test]
     fn a_linear_warp_maps_inside_points_and_extends_outside() {
-        let mesh = Mesh::lattice(Size::new(200, 100).unwrap(), 20.0);
-        let warp = Warp::linear(&mesh, Size::new(100, 200).unwrap());
-        let loc = Locator::new(&mesh, &warp);
-        for p in [
-            DVec2::new(33.3, 47.9),
-            DVec2::new(0.0, 0.0),
-            DVec2::new(200.0, 100.0),
-        ] {
-            let q = loc.map_inside(p).unwrap();
+        // Three times narrower, half as tall: every point inside goes to (x/3, y/2).
+        let mesh = Mesh::lattice(Size::new(300, 120).unwrap(), 25.0);
+        let warp = Warp::linear(&mesh, Size::new(100, 60).unwrap());
+        let loc = warp.locator(&mesh);
+        let grid = (0..=12).flat_map(|i| (0..=6).map(move |j| (i as f64 * 25.0, j as f64 * 20.0)));
+        for (x, y) in grid {
+            let got = loc.map_inside(DVec2::new(x, y));
+            let want = DVec2::new(x / 3.0, y / 2.0);
             assert!(
-                q.distance(DVec2::new(p.x * 0.5, p.y * 2.0)) < 1e-3,
-                "{p} -> {q}"
+                got.is_some_and(|q| q.distance(want) < 1e-3),
+                "({x}, {y}) -> {got:?}"
             );
         }
-        assert_eq!(loc.map_inside(DVec2::new(-10.0, 50.0)), None);
-        let q = loc.map_nearest(DVec2::new(-10.0, 50.0), 0.0).unwrap();
-        assert!(q.distance(DVec2::new(-5.0, 100.0)) < 1e-3, "{q}");
+        // Left of the canvas: not inside, and the nearest triangle's map extended.
+        let outside = DVec2::new(-30.0, 60.0);
+        assert_eq!(loc.map_inside(outside), None);
+        let q = loc.map_nearest(outside, 0.0).unwrap();
+        assert!(q.distance(DVec2::new(-10.0, 30.0)) < 1e-3, "{q}");
     }
 
     #[test]
