@@ -121,9 +121,10 @@ type EdgeRun = (u32, u32, u32, bool);
 ///   up to [`CHAIN_GAP_PX`] that together are that long and mostly step ([`CHAIN_COVER`]): a
 ///   row of waffle cells, whose pieces are each too short to count;
 /// * weak: steps above [`WEAK_STEP`], gaps up to [`WEAK_GAP_PX`] bridged, at least
-///   [`WEAK_MIN_PX`] long, not mostly a solid run:
+///   [`WEAK_MIN_PX`] long, not mostly solid runs:
 ///   light grid lines and panel frames (a plot's white grid on grey, a #eee border), long
-///   enough not to be a texture's edges.
+///   enough not to be a texture's edges. A weak run mostly of solid pieces, none of them
+///   most of it, replaces them as one solid run: a line cut where lines of its colour cross.
 fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Found<EdgeRun> {
     let min_len = min_length(len, n_boundaries);
     let strokes = Strokes::new(n_boundaries, len, min_len as usize, &edge);
@@ -176,13 +177,21 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
             if (up.max(down) as f32) < WEAK_ONE_WAY * (up + down) as f32 {
                 continue;
             }
-            let solid: usize = out.solid[first_solid..]
-                .iter()
-                .map(|s| (end.min(s.2 as usize)).saturating_sub(start.max(s.1 as usize)))
-                .sum();
-            if solid * 2 < end - start {
-                out.weak
-                    .push((b as u32, start as u32, end as u32, up > down));
+            let overlap =
+                |s: &EdgeRun| (end.min(s.2 as usize)).saturating_sub(start.max(s.1 as usize));
+            let (covered, longest) = (out.solid[first_solid..].iter())
+                .map(overlap)
+                .fold((0, 0), |(c, l), o| (c + o, l.max(o)));
+            let run = (b as u32, start as u32, end as u32, up > down);
+            if covered * 2 < end - start {
+                out.weak.push(run);
+            } else if longest * 2 < end - start {
+                // Mostly solid pieces, none of them most of it: a solid line broken only where
+                // lines of its colour cross it (nothing steps there), one solid run.
+                let pieces = out.solid.split_off(first_solid);
+                out.solid
+                    .extend(pieces.into_iter().filter(|s| overlap(s) == 0));
+                out.solid.push(run);
             }
         }
     }
@@ -488,6 +497,32 @@ mod tests {
                 from: 20.0,
                 to: 280.0,
                 width: 1
+            }]
+        );
+    }
+
+    /// A grid line crossed by grid lines of its colour steps nowhere across them: its solid
+    /// pieces are one solid line, as its weak run, which bridges the crossings, shows. Its two
+    /// sides pair into one thin line over all of it.
+    #[test]
+    fn a_line_crossed_by_lines_of_its_colour_is_one_line() {
+        let (w, h) = (300usize, 100usize);
+        let mut l = vec![255u8; w * h];
+        l[50 * w + 20..50 * w + 280].fill(200);
+        l[51 * w + 20..51 * w + 280].fill(200);
+        for row in l.chunks_exact_mut(w) {
+            row[100..103].fill(200);
+            row[200..203].fill(200);
+        }
+        let found = horizontal(&l, w, h);
+        assert!(found.weak.is_empty(), "{:?}", found.weak);
+        assert_eq!(
+            found.solid,
+            vec![Line {
+                pos: 51.0,
+                from: 20.0,
+                to: 280.0,
+                width: 2
             }]
         );
     }
