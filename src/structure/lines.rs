@@ -1,7 +1,7 @@
 //! Long straight axis-aligned lines and edges: panel frames, axes, grid lines, bar sides.
 //!
 //! A horizontal edge is a run, along the boundary between two pixel rows, of pixels whose
-//! luminance steps across the boundary as a drawn stroke's side does: by at least
+//! luminance steps across the boundary as a drawn stroke's side does: by more than
 //! [`STROKE_STEP`], and clearly more than the ground around it steps ([`Strokes`]); runs at
 //! least [`min_length`] long (1-px gaps bridged) count: longer than a glyph's stroke, and
 //! longer on a larger picture. A thin line (1–3 px) shows as two such edges a few rows apart
@@ -54,7 +54,7 @@ const CHAIN_COVER: f32 = 0.8;
 const THIN_PX: u32 = 3;
 
 /// Shortest run that counts as a line in a `w × h` picture, in pixels: [`GLYPH_PX`], or
-/// [`SIDE_SHARE`] of the shorter side when that is longer.
+/// 1/[`SIDE_SHARE`] of the shorter side when that is longer.
 pub(crate) fn min_length(w: usize, h: usize) -> u32 {
     (w.min(h) as u32 / SIDE_SHARE).max(GLYPH_PX)
 }
