@@ -1,11 +1,13 @@
 //! Long straight axis-aligned lines and edges: panel frames, axes, grid lines, bar sides.
 //!
 //! A horizontal edge is a run, along the boundary between two pixel rows, of pixels whose
-//! luminance differs across the boundary by more than [`EDGE_STEP`]; runs of at least
-//! [`MIN_LENGTH_PX`] (1-px gaps bridged) count. A thin line (1–3 px) shows as two such edges
-//! a few rows apart over the same span: it becomes one line along its middle, so that the
-//! mesh edge runs through the line's pixels and the renderer can keep it one pixel sharp. A
-//! lone edge (the top of a bar, the side of a filled panel) stays on its boundary.
+//! luminance steps across the boundary as a drawn stroke's side does: by more than
+//! [`STROKE_STEP`], and clearly more than the ground around it steps ([`Strokes`]); runs at
+//! least [`min_length`] long (1-px gaps bridged) count: longer than a glyph's stroke, and
+//! longer on a larger picture. A thin line (1–3 px) shows as two such edges a few rows apart
+//! over the same span: it becomes one line along its middle, so that the mesh edge runs
+//! through the line's pixels and the renderer can keep it one pixel sharp. A lone edge (the
+//! top of a bar, the side of a filled panel) stays on its boundary.
 //!
 //! Shorter runs in a row, stepping the same way with gaps of a few pixels, are one line when
 //! together they are long and mostly step: the tops of a waffle chart's cells, whose rows
@@ -13,8 +15,26 @@
 //! (a plot's white grid on grey, a light panel border) make a line only when long, and bridge
 //! the gaps where grid lines cross.
 
-/// Luminance step across a boundary that makes an edge pixel (the measure eval tools use).
-pub const EDGE_STEP: i16 = 30;
+/// Least luminance step of a stroke's side on a clean ground: about a tenth of the lightness
+/// scale (ΔL* ≈ 10, some 25 of the 255 sRGB levels), a difference that reads at a glance as a
+/// drawn rule rather than as a tint of its ground. The usual light rules step more (#ddd on
+/// white 34 levels, #dee2e6 30); fainter ones (#eee on white, a white grid on #ebebeb) are
+/// weak lines at best.
+const STROKE_STEP: i16 = 25;
+/// On a textured ground (a dense scatter, pixel art, a photograph) a stroke's side must also
+/// step clearly above the ground's own steps: by this many of their standard deviations, so
+/// that the ground alone passes about 3 times in 1000 and cannot make a run.
+const NOISE_SIGMAS: f32 = 3.0;
+/// Standard deviation of normally spread steps over their median magnitude: the median,
+/// unlike the spread itself, is not moved by the few lines crossing a tile.
+const MEDIAN_TO_SIGMA: f32 = 1.4826;
+/// Shortest line on a picture of screen resolution: longer than the tallest glyph of a
+/// heading (about 30 px), so that no glyph's stroke is a line.
+const GLYPH_PX: u32 = 32;
+/// Shortest line as a share of the picture's shorter side: labels are set at about 1/50 of
+/// it and headings at twice that, so on a larger (high-resolution) picture a line must also be
+/// longer than 1/25 of its side to be longer than its glyphs.
+const SIDE_SHARE: u32 = 25;
 /// Least luminance step of a weak line's pixels, and its least length: light grid lines are
 /// 15-30 levels off their ground (#ebebeb under white, #eee on white); texture edges that
 /// faint rarely run straight this far.
@@ -25,8 +45,6 @@ const WEAK_MIN_PX: u32 = 150;
 const WEAK_GAP_PX: usize = 3;
 /// Least share of a weak line's steps that go one way (a mark crossing it steps the other).
 const WEAK_ONE_WAY: f32 = 0.8;
-/// Shortest run that counts as a line, in pixels.
-pub const MIN_LENGTH_PX: u32 = 40;
 /// A chain of short runs ([`edge_runs`]): its gaps at most this wide, at least this many
 /// runs, and at least this share of it stepping.
 const CHAIN_GAP_PX: usize = 3;
@@ -34,6 +52,12 @@ const CHAIN_MIN_RUNS: usize = 3;
 const CHAIN_COVER: f32 = 0.8;
 /// Edges at most this far apart over the same span are the two sides of one thin line.
 const THIN_PX: u32 = 3;
+
+/// Shortest run that counts as a line in a `w × h` picture, in pixels: [`GLYPH_PX`], or
+/// 1/[`SIDE_SHARE`] of the shorter side when that is longer.
+pub(crate) fn min_length(w: usize, h: usize) -> u32 {
+    (w.min(h) as u32 / SIDE_SHARE).max(GLYPH_PX)
+}
 
 /// An axis-aligned line: `pos` across it (a row or column boundary, or the middle of a thin
 /// line), `from..to` along it, in image pixels.
@@ -92,31 +116,34 @@ type EdgeRun = (u32, u32, u32, bool);
 
 /// Runs along each interior boundary `1..n_boundaries` (positions `0..len`) of the steps
 /// `edge` writes, 1-px gaps bridged:
-/// * solid: steps above [`EDGE_STEP`], at least [`MIN_LENGTH_PX`] long;
+/// * solid: steps of a stroke's side ([`Strokes`]), at least [`min_length`] long;
 /// * chained: at least [`CHAIN_MIN_RUNS`] shorter such runs stepping the same way with gaps
 ///   up to [`CHAIN_GAP_PX`] that together are that long and mostly step ([`CHAIN_COVER`]): a
 ///   row of waffle cells, whose pieces are each too short to count;
 /// * weak: steps above [`WEAK_STEP`], gaps up to [`WEAK_GAP_PX`] bridged, at least
-///   [`WEAK_MIN_PX`] long, not mostly a solid run:
+///   [`WEAK_MIN_PX`] long, not mostly solid runs:
 ///   light grid lines and panel frames (a plot's white grid on grey, a #eee border), long
-///   enough not to be a texture's edges.
+///   enough not to be a texture's edges. A weak run mostly of solid pieces, none of them
+///   most of it, replaces them as one solid run: a line cut where lines of its colour cross.
 fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Found<EdgeRun> {
+    let min_len = min_length(len, n_boundaries);
+    let strokes = Strokes::new(n_boundaries, len, min_len as usize, &edge);
     let mut out = Found::default();
     let mut steps = vec![0i16; len];
+    let mut least = vec![0i16; len];
     let mut chain: Option<Chain> = None;
     for b in 1..n_boundaries {
         edge(b, &mut steps);
+        strokes.along(b, &mut least);
+        let stroke = |i: usize| steps[i].abs() > least[i];
         let first_solid = out.solid.len();
-        for (start, end) in runs(&steps, EDGE_STEP, 1) {
-            let rise = rising(&steps[start..end], EDGE_STEP);
-            let long = (end - start) as u32 >= MIN_LENGTH_PX;
+        for (start, end) in runs(len, stroke, 1) {
+            let rise = rising(&steps[start..end], &least[start..end]);
+            let long = (end - start) as u32 >= min_len;
             if long {
                 out.solid.push((b as u32, start as u32, end as u32, rise));
             }
-            let cover = steps[start..end]
-                .iter()
-                .filter(|v| v.abs() > EDGE_STEP)
-                .count();
+            let cover = (start..end).filter(|&i| stroke(i)).count();
             match &mut chain {
                 Some(c) if !long && start - c.to <= CHAIN_GAP_PX && c.rise == rise => {
                     c.to = end;
@@ -124,7 +151,8 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
                     c.cover += cover;
                 }
                 _ => {
-                    out.chained.extend(chain.take().and_then(|c| c.run(b)));
+                    out.chained
+                        .extend(chain.take().and_then(|c| c.run(b, min_len)));
                     chain = (!long).then_some(Chain {
                         from: start,
                         to: end,
@@ -135,10 +163,11 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
                 }
             }
         }
-        out.chained.extend(chain.take().and_then(|c| c.run(b)));
+        out.chained
+            .extend(chain.take().and_then(|c| c.run(b, min_len)));
         // A line's side steps one way nearly all along; the rows of a noisy texture step
         // both ways by this much nearly everywhere.
-        for (start, end) in runs(&steps, WEAK_STEP, WEAK_GAP_PX) {
+        for (start, end) in runs(len, |i| steps[i].abs() > WEAK_STEP, WEAK_GAP_PX) {
             if ((end - start) as u32) < WEAK_MIN_PX {
                 continue;
             }
@@ -148,17 +177,82 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
             if (up.max(down) as f32) < WEAK_ONE_WAY * (up + down) as f32 {
                 continue;
             }
-            let solid: usize = out.solid[first_solid..]
-                .iter()
-                .map(|s| (end.min(s.2 as usize)).saturating_sub(start.max(s.1 as usize)))
-                .sum();
-            if solid * 2 < end - start {
-                out.weak
-                    .push((b as u32, start as u32, end as u32, up > down));
+            let overlap =
+                |s: &EdgeRun| (end.min(s.2 as usize)).saturating_sub(start.max(s.1 as usize));
+            let (covered, longest) = (out.solid[first_solid..].iter())
+                .map(overlap)
+                .fold((0, 0), |(c, l), o| (c + o, l.max(o)));
+            let run = (b as u32, start as u32, end as u32, up > down);
+            if covered * 2 < end - start {
+                out.weak.push(run);
+            } else if longest * 2 < end - start {
+                // Mostly solid pieces, none of them most of it: a solid line broken only where
+                // lines of its colour cross it (nothing steps there), one solid run.
+                let pieces = out.solid.split_off(first_solid);
+                out.solid
+                    .extend(pieces.into_iter().filter(|s| overlap(s) == 0));
+                out.solid.push(run);
             }
         }
     }
     out
+}
+
+/// The least step of a stroke's side in each tile of the boundaries: [`STROKE_STEP`], or
+/// [`NOISE_SIGMAS`] standard deviations of the tile's own steps where its ground is textured.
+/// A tile is as wide as the shortest line: the ground a line is seen against, in which one
+/// line is a few of the steps only.
+struct Strokes {
+    tile: usize,
+    /// Tiles along a boundary.
+    cols: usize,
+    least: Vec<i16>,
+}
+
+impl Strokes {
+    /// The tiles of the steps `edge` writes along boundaries `1..n_boundaries`.
+    fn new(
+        n_boundaries: usize,
+        len: usize,
+        tile: usize,
+        edge: &impl Fn(usize, &mut [i16]),
+    ) -> Strokes {
+        let cols = len.div_ceil(tile);
+        let mut hist = vec![[0u32; 256]; n_boundaries.div_ceil(tile) * cols];
+        let mut steps = vec![0i16; len];
+        for b in 1..n_boundaries {
+            edge(b, &mut steps);
+            let row = &mut hist[b / tile * cols..][..cols];
+            for (x, &s) in steps.iter().enumerate() {
+                row[x / tile][s.unsigned_abs() as usize] += 1;
+            }
+        }
+        let least = hist
+            .iter()
+            .map(|h| {
+                let n: u32 = h.iter().sum();
+                let mut seen = 0;
+                let median = h
+                    .iter()
+                    .position(|&c| {
+                        seen += c;
+                        2 * seen >= n
+                    })
+                    .unwrap_or(0);
+                let noise = NOISE_SIGMAS * MEDIAN_TO_SIGMA * median as f32;
+                STROKE_STEP.max(noise.round() as i16)
+            })
+            .collect();
+        Strokes { tile, cols, least }
+    }
+
+    /// Writes the least step of a stroke's side at each position along boundary `b`.
+    fn along(&self, b: usize, least: &mut [i16]) {
+        let row = &self.least[b / self.tile * self.cols..][..self.cols];
+        for (x, t) in least.iter_mut().enumerate() {
+            *t = row[x / self.tile];
+        }
+    }
 }
 
 /// Short runs along one boundary, so far one after another with small gaps.
@@ -172,21 +266,24 @@ struct Chain {
 }
 
 impl Chain {
-    /// The chain as one run, if it is one ([`edge_runs`]).
-    fn run(&self, boundary: usize) -> Option<EdgeRun> {
+    /// The chain as one run, if it is one ([`edge_runs`]) in a picture whose lines are at
+    /// least `min_len` long.
+    fn run(&self, boundary: usize, min_len: u32) -> Option<EdgeRun> {
         let len = self.to - self.from;
         (self.runs >= CHAIN_MIN_RUNS
-            && len as u32 >= MIN_LENGTH_PX
+            && len as u32 >= min_len
             && self.cover as f32 >= CHAIN_COVER * len as f32)
             .then_some((boundary as u32, self.from as u32, self.to as u32, self.rise))
     }
 }
 
-/// Maximal runs `start..end` of `steps` above `threshold` in magnitude, gaps up to `gap` px
-/// bridged.
-fn runs(steps: &[i16], threshold: i16, gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-    let len = steps.len();
-    let on = move |i: usize| i < len && steps[i].abs() > threshold;
+/// Maximal runs `start..end` of positions `0..len` that are `on`, gaps up to `gap` px bridged.
+fn runs(
+    len: usize,
+    on: impl Fn(usize) -> bool,
+    gap: usize,
+) -> impl Iterator<Item = (usize, usize)> {
+    let on = move |i: usize| i < len && on(i);
     let mut i = 0;
     std::iter::from_fn(move || {
         while i < len && !on(i) {
@@ -211,12 +308,13 @@ fn runs(steps: &[i16], threshold: i16, gap: usize) -> impl Iterator<Item = (usiz
     })
 }
 
-/// Whether the steps above `threshold` in a run mostly rise.
-fn rising(steps: &[i16], threshold: i16) -> bool {
+/// Whether the steps of a run larger than their `least` mostly rise.
+fn rising(steps: &[i16], least: &[i16]) -> bool {
     steps
         .iter()
-        .filter(|v| v.abs() > threshold)
-        .map(|&v| v.signum() as i64)
+        .zip(least)
+        .filter(|(v, t)| v.abs() > **t)
+        .map(|(&v, _)| v.signum() as i64)
         .sum::<i64>()
         > 0
 }
@@ -403,6 +501,32 @@ mod tests {
         );
     }
 
+    /// A grid line crossed by grid lines of its colour steps nowhere across them: its solid
+    /// pieces are one solid line, as its weak run, which bridges the crossings, shows. Its two
+    /// sides pair into one thin line over all of it.
+    #[test]
+    fn a_line_crossed_by_lines_of_its_colour_is_one_line() {
+        let (w, h) = (300usize, 100usize);
+        let mut l = vec![255u8; w * h];
+        l[50 * w + 20..50 * w + 280].fill(200);
+        l[51 * w + 20..51 * w + 280].fill(200);
+        for row in l.chunks_exact_mut(w) {
+            row[100..103].fill(200);
+            row[200..203].fill(200);
+        }
+        let found = horizontal(&l, w, h);
+        assert!(found.weak.is_empty(), "{:?}", found.weak);
+        assert_eq!(
+            found.solid,
+            vec![Line {
+                pos: 51.0,
+                from: 20.0,
+                to: 280.0,
+                width: 2
+            }]
+        );
+    }
+
     /// Noise steps by more than a weak line's step between nearly every two rows, both ways:
     /// no line.
     #[test]
@@ -419,14 +543,58 @@ mod tests {
         assert!(vertical(&l, w, h).weak.is_empty());
     }
 
+    /// A glyph's stroke (a heading's "l", 30 px) is not a line and a rule a little longer is;
+    /// on a picture twice as large (a rendering at twice the resolution, its glyphs twice as
+    /// tall) both lengths double.
     #[test]
-    fn short_runs_are_not_lines() {
-        let (w, h) = (100usize, 30usize);
-        let mut l = vec![250u8; w * h];
-        for x in 10..45 {
-            l[10 * w + x] = 0;
-        }
-        let found = horizontal(&l, w, h);
-        assert!(found.solid.is_empty() && found.chained.is_empty() && found.weak.is_empty());
+    fn the_shortest_line_is_longer_than_a_glyph_and_grows_with_the_picture() {
+        let lines = |side: usize, lens: &[usize]| {
+            let mut l = vec![250u8; side * side];
+            for (i, &n) in lens.iter().enumerate() {
+                let y = 10 + 10 * i;
+                l[y * side + 10..y * side + 10 + n].fill(0);
+            }
+            let found = horizontal(&l, side, side);
+            assert!(found.chained.is_empty() && found.weak.is_empty());
+            (found.solid.iter())
+                .map(|l| (l.to - l.from) as usize)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(min_length(800, 600), GLYPH_PX);
+        assert_eq!(lines(600, &[30, 36]), vec![36]);
+        assert_eq!(min_length(1600, 1600), 2 * GLYPH_PX);
+        assert_eq!(lines(1600, &[60, 36, 72]), vec![72]);
+    }
+
+    /// On a ground of three shades at random (pixel art, a dense scatter) steps as large as a
+    /// light rule's run along every row; only a rule stepping clearly above them is a line.
+    /// A light rule on a clean ground is one.
+    #[test]
+    fn a_textured_ground_makes_no_lines_and_a_clear_rule_on_it_does() {
+        let (w, h) = (300usize, 200usize);
+        let mut s = 0x5eed_u32;
+        let mut l: Vec<u8> = (0..w * h)
+            .map(|_| {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                [175, 210, 245][(s >> 24) as usize % 3]
+            })
+            .collect();
+        // Taken against a clean ground's step, the texture alone would make lines.
+        let step = |b: usize, x: usize| l[b * w + x] as i16 - l[(b - 1) * w + x] as i16;
+        let texture_runs = (1..h)
+            .flat_map(|b| runs(w, move |x| step(b, x).abs() > STROKE_STEP, 1))
+            .filter(|(s, e)| (e - s) as u32 >= min_length(w, h))
+            .count();
+        assert!(texture_runs > 10, "{texture_runs}");
+        assert!(horizontal(&l, w, h).solid.is_empty());
+        assert!(vertical(&l, w, h).solid.is_empty());
+        l[100 * w + 20..100 * w + 280].fill(0); // a black rule across the texture
+        l[190 * w..200 * w].fill(255); // a clean strip, a #ddd rule in it
+        l[195 * w + 20..195 * w + 280].fill(0xdd);
+        let found: Vec<(f64, f64, f64)> = (horizontal(&l, w, h).solid.iter())
+            .map(|l| (l.pos, l.from, l.to))
+            .collect();
+        assert_eq!(found[0], (100.5, 20.0, 280.0));
+        assert!(found.contains(&(195.5, 20.0, 280.0)), "{found:?}");
     }
 }

@@ -243,7 +243,8 @@ fn components(mask: &[bool], w: usize, h: usize) -> Vec<Comp> {
 /// Strokes of lines are not glyphs: a panel's title set into its frame line ("─Total
 /// Transactions─") would otherwise join the frame into one component far too long for text.
 /// The line's pixels and the one-pixel halo the stroke mask gives them are cleared (the
-/// detected lines are at least [`super::lines::MIN_LENGTH_PX`] long: no glyph is cut).
+/// detected lines are longer than a glyph's stroke, [`super::lines::min_length`]: no glyph is
+/// cut).
 fn clear_lines(mask: &mut [bool], w: usize, h: usize, [horizontal, vertical]: [&[Line]; 2]) {
     for (l, across_len, along_len, horizontal) in
         [(horizontal, h, w, true), (vertical, w, h, false)]
