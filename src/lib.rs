@@ -80,7 +80,7 @@ pub use enhance::{EnhanceMask, EnhanceRegion, Enhancement};
 pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
 pub use limits::{parse_bytes, Limit, Limits, MemoryPlan};
-pub use mesh::{Boundary, Mesh, MeshOptions};
+pub use mesh::{Boundary, Mark, Mesh, MeshOptions, Role};
 pub use render::{resize_linear, Renderer};
 pub use retarget::{
     retarget, Analysis, Decision, Frame, FrameStats, Options, Retargeted, Retargeter, ReuseOptions,

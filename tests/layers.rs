@@ -34,27 +34,39 @@ fn code(text: &str) -> String {
         .join("\n")
 }
 
-/// Identifiers that follow `crate::` in `code`, and the first segments inside `crate::{...}`.
+/// Identifiers that follow `crate::` in `code`, and the first segments of a `crate::{...}`
+/// group (nested groups included: `crate::{a::{X, Y}, b}` is `a` and `b`).
 fn crate_paths(code: &str) -> Vec<String> {
+    let ident = |s: &str| -> String {
+        s.trim_start()
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect()
+    };
     let mut out = Vec::new();
     for (i, _) in code.match_indices("crate::") {
         let rest = &code[i + "crate::".len()..];
-        if let Some(group) = rest.strip_prefix('{') {
-            let group = &group[..group.find("};").unwrap_or(group.len())];
-            for part in group.split(',') {
-                let head: String = part
-                    .trim()
-                    .chars()
-                    .take_while(|c| c.is_alphanumeric() || *c == '_')
-                    .collect();
-                out.push(head);
+        let Some(group) = rest.strip_prefix('{') else {
+            out.push(ident(rest));
+            continue;
+        };
+        // Split the group at its top-level commas; each part's first identifier is a module
+        // (or a root re-export).
+        let (mut depth, mut start) = (0usize, 0usize);
+        for (k, c) in group.char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' if depth == 0 => {
+                    out.push(ident(&group[start..k]));
+                    break;
+                }
+                '}' => depth -= 1,
+                ',' if depth == 0 => {
+                    out.push(ident(&group[start..k]));
+                    start = k + 1;
+                }
+                _ => {}
             }
-        } else {
-            out.push(
-                rest.chars()
-                    .take_while(|c| c.is_alphanumeric() || *c == '_')
-                    .collect(),
-            );
         }
     }
     out
@@ -80,6 +92,13 @@ fn root_reexports(lib: &str) -> BTreeMap<String, String> {
         }
     }
     out
+}
+
+#[test]
+fn a_nested_import_group_names_each_module() {
+    let got =
+        crate_paths("use crate::{mesh::{Mesh, Mark}, solve::Warp, Error};\nx = crate::io::f();");
+    assert_eq!(got, ["mesh", "solve", "Error", "io"]);
 }
 
 #[test]

@@ -129,7 +129,7 @@ pub struct Mesh {
     structure: Option<std::sync::Arc<Structure>>,
 }
 
-/// What structure a vertex belongs to (see [`crate::structure`]): the solver keeps a line's
+/// What structure a vertex belongs to (see [`Structure`](crate::Structure)): the solver keeps a line's
 /// vertices on one straight axis-aligned line and a text block's vertices in one similarity.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Role {

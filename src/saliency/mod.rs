@@ -98,7 +98,8 @@ impl Vsm {
     }
 
     /// The constants this map was normalized with (`None` for a map given as values).
-    pub fn norm(&self) -> Option<&VsmNorm> {
+    #[cfg(test)]
+    pub(crate) fn norm(&self) -> Option<&VsmNorm> {
         self.norm.as_deref()
     }
 
@@ -299,7 +300,7 @@ impl VsmBuilder {
     /// size, with the constants `vsm` was built with: inside the rect's map cells the result
     /// equals what a full build with those constants would give. Maps without constants, or of
     /// another size, are rebuilt.
-    pub fn update_region(&mut self, image: ImageRef<'_>, vsm: &mut Vsm, rect: Rect) {
+    pub(crate) fn update_region(&mut self, image: ImageRef<'_>, vsm: &mut Vsm, rect: Rect) {
         let size = image.size();
         let Some(norm) = vsm.norm.clone().filter(|_| vsm.size == size) else {
             self.build_into(image, vsm);

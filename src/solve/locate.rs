@@ -24,8 +24,8 @@ pub struct Locator<'a> {
 }
 
 impl<'a> Locator<'a> {
-    /// Indexes `mesh`'s triangles; `warp` must be a warp of `mesh` (otherwise nothing is
-    /// indexed and no point is found).
+    /// Indexes `mesh`'s triangles; `warp` must be a warp of `mesh` (a warp with another
+    /// number of vertices indexes nothing, and no point is found).
     pub fn new(mesh: &'a Mesh, warp: &'a Warp) -> Locator<'a> {
         let size = mesh.size();
         let cols = (size.width as f64 / CELL_PX).ceil().max(1.0) as usize;
@@ -89,6 +89,9 @@ impl<'a> Locator<'a> {
     /// barycentric coordinates there; failing that, if `nearest`, the bucket's triangle whose
     /// least coordinate is largest.
     fn locate(&self, p: DVec2, tolerance: f64, nearest: bool) -> Option<(usize, [f64; 3])> {
+        if !p.is_finite() {
+            return None;
+        }
         let size = self.mesh.size();
         let q = DVec2::new(
             p.x.clamp(0.0, size.width as f64),

@@ -366,7 +366,7 @@ impl Solver {
     /// rounds: the caller then solves the whole mesh. A free vertex `i` with `anchors[i] =
     /// Some((p, k))` is pulled towards `p` by the temporal term ([`EnergyParams::temporal`]
     /// times `k`).
-    pub fn solve_local(
+    pub(crate) fn solve_local(
         &mut self,
         mesh: &Mesh,
         vsm: &Vsm,
