@@ -119,12 +119,7 @@ impl FrameSource for DirSource {
             }
             Some(_) => {}
         }
-        let name = path
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .into_owned();
-        self.names.insert(index, name);
+        self.names.insert_file(index, &path);
         Ok(Some(Frame::new(image, index)))
     }
 

@@ -23,6 +23,12 @@ impl FrameNames {
         FrameNames::default()
     }
 
+    /// Records that frame `frame_index` was read from the file `path` (its file name).
+    pub fn insert_file(&self, frame_index: u64, path: &std::path::Path) {
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        self.insert(frame_index, name.into_owned());
+    }
+
     /// Records that frame `frame_index` came from the file `name`.
     pub fn insert(&self, frame_index: u64, name: impl Into<String>) {
         let mut map = self.lock();

@@ -506,12 +506,7 @@ impl WatchSource {
         self.done.insert(path.clone(), fp);
         let index = self.next_index;
         self.next_index += 1;
-        let name = path
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .into_owned();
-        self.names.insert(index, name);
+        self.names.insert_file(index, &path);
         Read::Frame(Frame::new(image, index))
     }
 }
