@@ -356,3 +356,23 @@ fn help_teaches() {
         assert!(help.contains(want), "help lacks {want:?}: {help}");
     }
 }
+
+/// A debug folder that cannot be made fails the run naming the option and the folder.
+#[test]
+fn an_unwritable_debug_folder_is_named() {
+    let (dir, _) = folder_with("in.png", &png_bytes(120, 80));
+    std::fs::write(dir.path().join("file"), b"not a folder").unwrap();
+    let out = run(
+        dir.path(),
+        &[
+            "in.png",
+            "--width",
+            "60",
+            "--debug-dir",
+            "file/dbg",
+            "-o",
+            "o.png",
+        ],
+    );
+    assert_fails(&out, 1, &["--debug-dir", "file/dbg"]);
+}

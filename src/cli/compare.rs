@@ -74,7 +74,12 @@ pub fn still_with(
     let out = retarget_with(method, image, target, options).map_err(library_error)?;
     super::still::write_output(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {
-        debug::write_method(dir, image, &out)?;
+        debug::write_method(dir, image, &out).with_context(|| {
+            format!(
+                "--debug-dir: cannot write the pictures into {}",
+                dir.display()
+            )
+        })?;
     }
     if cli.stats {
         let s = &out.stats;

@@ -55,7 +55,12 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
     let out = retarget(&image, target, &options)?;
     write_output(&out.image, output, format)?;
     if let Some(dir) = &cli.debug_dir {
-        debug::write(dir, &image, &out)?;
+        debug::write(dir, &image, &out).with_context(|| {
+            format!(
+                "--debug-dir: cannot write the pictures into {}",
+                dir.display()
+            )
+        })?;
     }
     if cli.stats {
         print_stats(input, image.size(), &out);
