@@ -711,19 +711,25 @@ fn hollow_marks_stay_round() {
     );
 }
 
+/// Draws `text` at `px` on a white box of `w × h`, turned a quarter (read bottom to top) onto
+/// `img` with the box's left edge at row `bottom` and its top at column `left`.
+fn sideways(img: &mut Image, text: &str, px: f32, (w, h): (u32, u32), (left, bottom): (u32, u32)) {
+    let mut word = Image::filled(Size::new(w, h).unwrap(), [255; 4]);
+    draw_label(&mut word, 4.0, 2.0, px, text);
+    for y in 0..h {
+        for x in 0..w {
+            img.set(left + y, bottom - x, word.get(x, y));
+        }
+    }
+}
+
 /// An axis title set up the side is found as one sideways block over its ink, and the
 /// upright tick labels beside it are not taken for sideways text.
 #[test]
 fn a_sideways_axis_title_is_found() {
     // "Age (years)" drawn upright, then turned a quarter (read bottom to top) onto the chart.
-    let mut word = Image::filled(Size::new(140, 24).unwrap(), [255; 4]);
-    draw_label(&mut word, 4.0, 2.0, 16.0, "Age (years)");
     let mut img = Image::filled(Size::new(300, 260).unwrap(), [255; 4]);
-    for y in 0..24 {
-        for x in 0..140 {
-            img.set(20 + y, 200 - x, word.get(x, y));
-        }
-    }
+    sideways(&mut img, "Age (years)", 16.0, (140, 24), (20, 200));
     for (i, label) in ["60", "50", "40", "30", "20"].iter().enumerate() {
         draw_label(&mut img, 60.0, 40.0 + 40.0 * i as f32, 14.0, label);
     }
@@ -773,14 +779,8 @@ fn a_sideways_title_is_not_taken_for_upright_pieces() {
         .step_by(2)
         .flat_map(|s| titles.map(|t| (s as f32, t)))
     {
-        let mut word = Image::filled(Size::new(260, 34).unwrap(), [255; 4]);
-        draw_label(&mut word, 4.0, 2.0, size, title);
         let mut img = Image::filled(Size::new(300, 300).unwrap(), [255; 4]);
-        for y in 0..34 {
-            for x in 0..260 {
-                img.set(16 + y, 280 - x, word.get(x, y));
-            }
-        }
+        sideways(&mut img, title, size, (260, 34), (16, 280));
         rect(&mut img, 90, 20, 92, 280, [40, 40, 40, 255]);
         let text = Structure::detect(img.as_ref()).text;
         let on_title: Vec<&TextBlock> = text.iter().filter(|b| b.x0 < 60).collect();
@@ -816,14 +816,8 @@ fn single_digit_tick_labels_are_text() {
 /// reading won, and its column ("6", "4", "2") broken (chart-scatter-01's "4").
 #[test]
 fn a_tick_label_beside_a_sideways_title_stays_in_its_column() {
-    let mut word = Image::filled(Size::new(260, 34).unwrap(), [255; 4]);
-    draw_label(&mut word, 4.0, 2.0, 24.0, "Frequency");
     let mut img = Image::filled(Size::new(300, 300).unwrap(), [255; 4]);
-    for y in 0..34 {
-        for x in 0..260 {
-            img.set(16 + y, 280 - x, word.get(x, y));
-        }
-    }
+    sideways(&mut img, "Frequency", 24.0, (260, 34), (16, 280));
     let labels = ["8", "6", "4", "2", "0"];
     for (i, label) in labels.iter().enumerate() {
         let y = 40 + 50 * i as u32;
