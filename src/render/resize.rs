@@ -33,6 +33,8 @@ struct Taps {
 
 /// The taps of every output sample along one axis, their weights in one buffer.
 struct Axis {
+    /// Source samples.
+    n: usize,
     taps: Vec<Taps>,
     weights: Vec<f32>,
 }
@@ -72,29 +74,46 @@ impl Axis {
                 }
             })
             .collect();
-        Axis { taps, weights }
+        Axis { n, taps, weights }
     }
 
-    /// Sample `i` from source samples `at(j)`, clamped to its positive lobe's samples.
+    /// Sample `i` of a `row` of source samples, clamped to its positive lobe's samples.
     #[inline]
-    fn filter(&self, i: usize, at: impl Fn(usize) -> [f32; 4]) -> [f32; 4] {
+    fn filter(&self, i: usize, row: &[[f32; 4]]) -> [f32; 4] {
         let t = &self.taps[i];
+        let weights = &self.weights[t.weights.clone()];
+        let src = &row[t.start..][..weights.len()];
         let mut acc = [0f32; 4];
-        let mut lo = [f32::MAX; 4];
-        let mut hi = [f32::MIN; 4];
-        for (k, &w) in self.weights[t.weights.clone()].iter().enumerate() {
-            let v = at(t.start + k);
+        for (&w, v) in weights.iter().zip(src) {
             for c in 0..4 {
                 acc[c] += w * v[c];
             }
-            if k >= t.positive.0 && k <= t.positive.1 {
-                for c in 0..4 {
-                    lo[c] = lo[c].min(v[c]);
-                    hi[c] = hi[c].max(v[c]);
-                }
+        }
+        let lobe = &src[t.positive.0..=t.positive.1];
+        let (mut lo, mut hi) = (lobe[0], lobe[0]);
+        for v in &lobe[1..] {
+            for c in 0..4 {
+                lo[c] = lo[c].min(v[c]);
+                hi[c] = hi[c].max(v[c]);
             }
         }
         std::array::from_fn(|c| acc[c].clamp(lo[c], hi[c]))
+    }
+
+    /// Resamples the rows of `px` (`n` samples each) starting at row `first` into `band`
+    /// (rows of this axis's `m` samples), each sample `store`d as the band keeps it.
+    fn across<T>(&self, px: &[[u8; 4]], first: usize, band: &mut [T], store: impl Fn([f32; 4]) -> T) {
+        let (n, m) = (self.n, self.taps.len());
+        let mut rowf = vec![[0f32; 4]; n];
+        for (y, out) in band.chunks_exact_mut(m).enumerate() {
+            let row = &px[(first + y) * n..][..n];
+            for (f, p) in rowf.iter_mut().zip(row) {
+                *f = p.map(f32::from);
+            }
+            for (x, o) in out.iter_mut().enumerate() {
+                *o = store(self.filter(x, &rowf));
+            }
+        }
     }
 }
 
@@ -130,6 +149,14 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     let (sw, sh) = (src.width() as usize, src.height() as usize);
     let (tw, th) = (target.width as usize, target.height as usize);
     let px = src.pixels();
+    let round = |v: [f32; 4]| v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
+    let mut out = Image::new(target);
+    if th == sh {
+        // Across only, rounded straight into the output.
+        let across = Axis::new(sw, tw);
+        in_bands(out.pixels_mut(), tw, |first, band| across.across(px, first, band, round));
+        return out;
+    }
     // Across first: sh rows of tw samples (an axis that keeps its size is copied).
     let mut mid = vec![[0f32; 4]; sh * tw];
     if tw == sw {
@@ -138,26 +165,7 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
         }
     } else {
         let across = Axis::new(sw, tw);
-        in_bands(&mut mid, tw, |first, band| {
-            let mut rowf = vec![[0f32; 4]; sw];
-            for (y, out) in band.chunks_exact_mut(tw).enumerate() {
-                let row = &px[(first + y) * sw..(first + y + 1) * sw];
-                for (f, p) in rowf.iter_mut().zip(row) {
-                    *f = p.map(f32::from);
-                }
-                for (x, o) in out.iter_mut().enumerate() {
-                    *o = across.filter(x, |j| rowf[j]);
-                }
-            }
-        });
-    }
-    let round = |v: [f32; 4]| v.map(|c| (c + 0.5).clamp(0.0, 255.0) as u8);
-    let mut out = Image::new(target);
-    if th == sh {
-        for (o, v) in out.pixels_mut().iter_mut().zip(&mid) {
-            *o = round(*v);
-        }
-        return out;
+        in_bands(&mut mid, tw, |first, band| across.across(px, first, band, |v| v));
     }
     // Down, a whole row of taps at a time (a column at a time strides through `mid`).
     let down = Axis::new(sh, th);

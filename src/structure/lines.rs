@@ -100,11 +100,18 @@ pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found {
 
 /// Vertical lines of a `w × h` luminance image.
 pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Found {
-    // Column boundaries are walked on a transposed copy, so that both directions read rows.
+    // Column boundaries are walked on a transposed copy, so that both directions read rows;
+    // it is copied in square blocks that stay in cache on both sides.
+    const BLOCK: usize = 32;
     let mut t = vec![0u8; w * h];
-    for (y, row) in l.chunks_exact(w).enumerate() {
-        for (x, &v) in row.iter().enumerate() {
-            t[x * h + y] = v;
+    for y0 in (0..h).step_by(BLOCK) {
+        for x0 in (0..w).step_by(BLOCK) {
+            for y in y0..(y0 + BLOCK).min(h) {
+                let row = &l[y * w..][x0..(x0 + BLOCK).min(w)];
+                for (x, &v) in (x0..).zip(row) {
+                    t[x * h + y] = v;
+                }
+            }
         }
     }
     horizontal(&t, h, w)
@@ -130,20 +137,22 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
     let strokes = Strokes::new(n_boundaries, len, min_len as usize, &edge);
     let mut out = Found::default();
     let mut steps = vec![0i16; len];
-    let mut least = vec![0i16; len];
+    let (mut stroke, mut faint) = (vec![false; len], vec![false; len]);
     let mut chain: Option<Chain> = None;
     for b in 1..n_boundaries {
         edge(b, &mut steps);
-        strokes.along(b, &mut least);
-        let stroke = |i: usize| steps[i].abs() > least[i];
+        strokes.mark(b, &steps, &mut stroke);
+        for (f, &v) in faint.iter_mut().zip(&steps) {
+            *f = v.abs() > WEAK_STEP;
+        }
         let first_solid = out.solid.len();
-        for (start, end) in runs(len, stroke, 1) {
-            let rise = rising(&steps[start..end], &least[start..end]);
+        for (start, end) in runs(&stroke, 1) {
+            let rise = rising(&steps[start..end], &stroke[start..end]);
             let long = (end - start) as u32 >= min_len;
             if long {
                 out.solid.push((b as u32, start as u32, end as u32, rise));
             }
-            let cover = (start..end).filter(|&i| stroke(i)).count();
+            let cover = stroke[start..end].iter().filter(|&&s| s).count();
             match &mut chain {
                 Some(c) if !long && start - c.to <= CHAIN_GAP_PX && c.rise == rise => {
                     c.to = end;
@@ -167,7 +176,7 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
             .extend(chain.take().and_then(|c| c.run(b, min_len)));
         // A line's side steps one way nearly all along; the rows of a noisy texture step
         // both ways by this much nearly everywhere.
-        for (start, end) in runs(len, |i| steps[i].abs() > WEAK_STEP, WEAK_GAP_PX) {
+        for (start, end) in runs(&faint, WEAK_GAP_PX) {
             if ((end - start) as u32) < WEAK_MIN_PX {
                 continue;
             }
@@ -209,8 +218,18 @@ struct Strokes {
     least: Vec<i16>,
 }
 
+/// The least step of a stroke's side on ground whose steps have this median magnitude.
+fn least_step(median: usize) -> i16 {
+    let noise = NOISE_SIGMAS * MEDIAN_TO_SIGMA * median as f32;
+    STROKE_STEP.max(noise.round() as i16)
+}
+
 impl Strokes {
     /// The tiles of the steps `edge` writes along boundaries `1..n_boundaries`.
+    ///
+    /// Most tiles are clean ground, where half the steps or more are too small to raise the
+    /// bar above [`STROKE_STEP`]: counting those decides them. Only the textured rest needs
+    /// its median, from a histogram of a second pass over its rows.
     fn new(
         n_boundaries: usize,
         len: usize,
@@ -218,39 +237,62 @@ impl Strokes {
         edge: &impl Fn(usize, &mut [i16]),
     ) -> Strokes {
         let cols = len.div_ceil(tile);
-        let mut hist = vec![[0u32; 256]; n_boundaries.div_ceil(tile) * cols];
+        let rows = n_boundaries.div_ceil(tile);
+        let quiet = (0..=255u16)
+            .take_while(|&m| least_step(m as usize) == STROKE_STEP)
+            .last()
+            .unwrap_or(0);
         let mut steps = vec![0i16; len];
+        let mut quiet_steps = vec![0u32; rows * cols];
         for b in 1..n_boundaries {
             edge(b, &mut steps);
-            let row = &mut hist[b / tile * cols..][..cols];
-            for (x, &s) in steps.iter().enumerate() {
-                row[x / tile][s.unsigned_abs() as usize] += 1;
+            let row = &mut quiet_steps[b / tile * cols..][..cols];
+            for (q, chunk) in row.iter_mut().zip(steps.chunks(tile)) {
+                *q += chunk.iter().filter(|s| s.unsigned_abs() <= quiet).count() as u32;
             }
         }
-        let least = hist
-            .iter()
-            .map(|h| {
-                let n: u32 = h.iter().sum();
-                let mut seen = 0;
-                let median = h
-                    .iter()
-                    .position(|&c| {
-                        seen += c;
+        let mut least = vec![STROKE_STEP; rows * cols];
+        let mut hist = vec![[0u32; 256]; cols];
+        for r in 0..rows {
+            let bounds = (r * tile).max(1)..((r + 1) * tile).min(n_boundaries);
+            let count = |c: usize| (bounds.len() * tile.min(len - c * tile)) as u32;
+            let textured: Vec<usize> = (0..cols)
+                .filter(|&c| 2 * quiet_steps[r * cols + c] < count(c))
+                .collect();
+            if textured.is_empty() {
+                continue;
+            }
+            hist.iter_mut().for_each(|h| h.fill(0));
+            for b in bounds.clone() {
+                edge(b, &mut steps);
+                for &c in &textured {
+                    for &s in &steps[c * tile..][..tile.min(len - c * tile)] {
+                        hist[c][s.unsigned_abs() as usize] += 1;
+                    }
+                }
+            }
+            for &c in &textured {
+                let (n, mut seen) = (count(c), 0);
+                let median = (hist[c].iter())
+                    .position(|&k| {
+                        seen += k;
                         2 * seen >= n
                     })
                     .unwrap_or(0);
-                let noise = NOISE_SIGMAS * MEDIAN_TO_SIGMA * median as f32;
-                STROKE_STEP.max(noise.round() as i16)
-            })
-            .collect();
+                least[r * cols + c] = least_step(median);
+            }
+        }
         Strokes { tile, cols, least }
     }
 
-    /// Writes the least step of a stroke's side at each position along boundary `b`.
-    fn along(&self, b: usize, least: &mut [i16]) {
+    /// Marks where a step along boundary `b` is a stroke's side.
+    fn mark(&self, b: usize, steps: &[i16], stroke: &mut [bool]) {
         let row = &self.least[b / self.tile * self.cols..][..self.cols];
-        for (x, t) in least.iter_mut().enumerate() {
-            *t = row[x / self.tile];
+        let tiles = stroke.chunks_mut(self.tile).zip(steps.chunks(self.tile));
+        for ((marks, steps), &least) in tiles.zip(row) {
+            for (m, &v) in marks.iter_mut().zip(steps) {
+                *m = v.abs() > least;
+            }
         }
     }
 }
@@ -277,30 +319,18 @@ impl Chain {
     }
 }
 
-/// Maximal runs `start..end` of positions `0..len` that are `on`, gaps up to `gap` px bridged.
-fn runs(
-    len: usize,
-    on: impl Fn(usize) -> bool,
-    gap: usize,
-) -> impl Iterator<Item = (usize, usize)> {
-    let on = move |i: usize| i < len && on(i);
+/// Maximal runs `start..end` of the positions that are `on`, gaps up to `gap` px bridged.
+fn runs(on: &[bool], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
     let mut i = 0;
     std::iter::from_fn(move || {
-        while i < len && !on(i) {
-            i += 1;
-        }
-        if i >= len {
-            return None;
-        }
+        i += on.get(i..)?.iter().position(|&o| o)?;
         let start = i;
         let mut end = i + 1;
         loop {
-            if on(end) {
-                end += 1;
-            } else if let Some(g) = (1..=gap).find(|&g| on(end + g)) {
-                end += g + 1;
-            } else {
-                break;
+            end += on[end..].iter().take_while(|&&o| o).count();
+            match (1..=gap).find(|&g| on.get(end + g) == Some(&true)) {
+                Some(g) => end += g + 1,
+                None => break,
             }
         }
         i = end;
@@ -308,12 +338,12 @@ fn runs(
     })
 }
 
-/// Whether the steps of a run larger than their `least` mostly rise.
-fn rising(steps: &[i16], least: &[i16]) -> bool {
+/// Whether the steps of a run that are a stroke's side mostly rise.
+fn rising(steps: &[i16], stroke: &[bool]) -> bool {
     steps
         .iter()
-        .zip(least)
-        .filter(|(v, t)| v.abs() > **t)
+        .zip(stroke)
+        .filter(|(_, &s)| s)
         .map(|(&v, _)| v.signum() as i64)
         .sum::<i64>()
         > 0
@@ -581,10 +611,14 @@ mod tests {
             .collect();
         // Taken against a clean ground's step, the texture alone would make lines.
         let step = |b: usize, x: usize| l[b * w + x] as i16 - l[(b - 1) * w + x] as i16;
-        let texture_runs = (1..h)
-            .flat_map(|b| runs(w, move |x| step(b, x).abs() > STROKE_STEP, 1))
-            .filter(|(s, e)| (e - s) as u32 >= min_length(w, h))
-            .count();
+        let texture_runs: usize = (1..h)
+            .map(|b| {
+                let on: Vec<bool> = (0..w).map(|x| step(b, x).abs() > STROKE_STEP).collect();
+                runs(&on, 1)
+                    .filter(|(s, e)| (e - s) as u32 >= min_length(w, h))
+                    .count()
+            })
+            .sum();
         assert!(texture_runs > 10, "{texture_runs}");
         assert!(horizontal(&l, w, h).solid.is_empty());
         assert!(vertical(&l, w, h).solid.is_empty());
