@@ -140,11 +140,21 @@ fn clamp(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [f32; 4] {
     [c(0), c(1), c(2), c(3)]
 }
 
-/// A row of filtered pixels rounded to bytes. One flat loop: the compiler converts a whole
-/// row with vector instructions, where a pixel at a time it goes lane by lane.
+/// A row of filtered pixels rounded to bytes: `(v + 0.5).clamp(0.0, 255.0) as u8`, each
+/// value. Written so the compiler keeps it in vectors: selects for the clamp, and the
+/// integer part read from the float's bits, where `as u8` saturates lane by lane.
 fn round_row(row: &[[f32; 4]], out: &mut [[u8; 4]]) {
+    /// 2^23: added to a float in [0, 256), it leaves that float rounded to the nearest
+    /// integer (ties to even) in the low bits of the sum's mantissa.
+    const MANTISSA: f32 = 8_388_608.0;
     for (o, &v) in out.as_flattened_mut().iter_mut().zip(row.as_flattened()) {
-        *o = (v + 0.5).clamp(0.0, 255.0) as u8;
+        let x = v + 0.5;
+        let x = if x < 0.0 { 0.0 } else { x };
+        let x = if x > 255.0 { 255.0 } else { x };
+        let sum = x + MANTISSA;
+        let nearest = sum - MANTISSA;
+        // `as u8` truncates: one less where rounding went up.
+        *o = (sum.to_bits() as u8).wrapping_sub((nearest > x) as u8);
     }
 }
 
@@ -351,6 +361,26 @@ mod tests {
             })
             .collect();
         Image::from_pixels(target, data).unwrap()
+    }
+
+    #[test]
+    fn rows_round_as_a_cast_does() {
+        // Every half and its neighbouring floats, and a fine sweep, over and past 0..=255.
+        let halves = (-40..600).flat_map(|k| {
+            let h = k as f32 * 0.5;
+            [h.next_down(), h, h.next_up()]
+        });
+        let sweep = (0..200_000).map(|i| -20.0 + i as f32 * 0.0015);
+        let values: Vec<f32> = halves.chain(sweep).collect();
+        let row: Vec<[f32; 4]> = values
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        let mut out = vec![[0u8; 4]; row.len()];
+        round_row(&row, &mut out);
+        for (v, o) in row.as_flattened().iter().zip(out.as_flattened()) {
+            assert_eq!(*o, (v + 0.5).clamp(0.0, 255.0) as u8, "{v}");
+        }
     }
 
     proptest::proptest! {

@@ -50,8 +50,9 @@ impl Default for ReuseOptions {
 pub(crate) struct Built {
     pub inc: IncrementalMesh,
     pub mesh: Arc<Mesh>,
-    /// The VSM the mesh was built for (tiles replaced as they are updated).
-    pub reference: Vsm,
+    /// The VSM the mesh was built for: the frame's own map, shared, until an update replaces
+    /// tiles in a copy.
+    pub reference: Arc<Vsm>,
     /// The VSM of the last frame meshed: a frame with the very same map changes nothing.
     pub last: Arc<Vsm>,
     /// The points the mesh was built to have as vertices, and the marks it was built to ring
@@ -301,7 +302,7 @@ mod tests {
         Built {
             inc,
             mesh: Arc::new(mesh),
-            reference: (**vsm).clone(),
+            reference: vsm.clone(),
             last: vsm.clone(),
             points: Vec::new(),
             rings: Vec::new(),

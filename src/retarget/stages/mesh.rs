@@ -96,7 +96,7 @@ impl MeshStage {
             (Plan::Update { region, marks }, Some(b)) => {
                 let mesh = Arc::new(b.inc.update(vsm, &self.options, &region));
                 self.next_id = b.inc.next_id();
-                b.reference.copy_tiles_from(vsm, &region);
+                Arc::make_mut(&mut b.reference).copy_tiles_from(vsm, &region);
                 b.floating = Arc::new(unringed(marks, &mesh));
                 b.mesh = mesh;
                 b.last = vsm.clone();
@@ -139,7 +139,7 @@ impl MeshStage {
         Built {
             inc,
             mesh: Arc::new(mesh),
-            reference: (**vsm).clone(),
+            reference: vsm.clone(),
             last: vsm.clone(),
             points: points.clone(),
             rings: rings.clone(),
