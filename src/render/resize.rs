@@ -77,6 +77,32 @@ impl Axis {
         Axis { n, taps, weights }
     }
 
+    /// The same taps, each made `k` long (the most any has) by zero weights before or after
+    /// it, inside the row: the tap loop then runs the same length for every sample, and the
+    /// processor predicts its end instead of stalling on it every few samples. A zero weight
+    /// adds nothing and bounds nothing, so the samples are the same.
+    fn padded(self) -> Axis {
+        let n = self.n;
+        let k = (self.taps.iter().map(|t| t.weights.len()).max()).map_or(0, |k| k.min(n));
+        let mut weights = Vec::with_capacity(k * self.taps.len());
+        let taps = (self.taps.iter())
+            .map(|t| {
+                let start = t.start.min(n - k);
+                let front = t.start - start;
+                let first = weights.len();
+                weights.resize(first + front, 0.0);
+                weights.extend_from_slice(&self.weights[t.weights.clone()]);
+                weights.resize(first + k, 0.0);
+                Taps {
+                    start,
+                    weights: first..first + k,
+                    positive: (t.positive.0 + front, t.positive.1 + front),
+                }
+            })
+            .collect();
+        Axis { n, taps, weights }
+    }
+
     /// Sample `i` of a `row` of source samples, clamped to its positive lobe's samples.
     #[inline(always)]
     fn filter(&self, i: usize, row: &[[f32; 4]]) -> [f32; 4] {
@@ -193,7 +219,7 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     let mut out = Image::new(target);
     if th == sh {
         // Across only, rounded straight into the output.
-        let across = Axis::new(sw, tw);
+        let across = Axis::new(sw, tw).padded();
         in_bands(out.pixels_mut(), tw, |first, band| {
             across.across(px, first, band.len() / tw, |y, row| {
                 round_row(row, &mut band[y * tw..][..tw])
@@ -208,7 +234,7 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
             *o = f32::from(p);
         }
     } else {
-        let across = Axis::new(sw, tw);
+        let across = Axis::new(sw, tw).padded();
         in_bands(&mut mid, tw, |first, band| {
             across.across(px, first, band.len() / tw, |y, row| {
                 band[y * tw..][..tw].copy_from_slice(row)
