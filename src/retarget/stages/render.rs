@@ -42,6 +42,8 @@ struct Previous {
     image: Image,
     opaque: bool,
     floating: Floating,
+    /// The mesh stage's marks it was drawn with.
+    marks: Arc<Vec<Mark>>,
 }
 
 impl RenderStage {
@@ -100,6 +102,22 @@ impl RenderStage {
         let mesh = &m.mesh;
         let opaque = src.is_opaque();
         let target = warp.target();
+        let usable = self.prev.as_ref().filter(|p| {
+            decision != Decision::Rebuild
+                && p.image.size() == target
+                && p.opaque == opaque
+                && p.mesh.size() == mesh.size()
+        });
+        let unchanged = usable.filter(|p| {
+            Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
+        });
+        if let Some(p) = unchanged.filter(|p| Arc::ptr_eq(&p.marks, &m.floating)) {
+            // Same pixels, mesh, warp and marks: the same output, floating marks and all,
+            // already drawn (and a scaled mark blends its rim over what lies under it: twice
+            // is not once).
+            self.floated = p.floating.len();
+            return p.image.clone();
+        }
         let floating = floating_marks(src, vsm, m, warp);
         // The warp reads the source with the floating marks painted out.
         let warped = painted_out(
@@ -109,20 +127,12 @@ impl RenderStage {
             &mut self.painted,
             &mut self.scratch,
         );
-        let usable = self.prev.as_ref().filter(|p| {
-            decision != Decision::Rebuild
-                && p.image.size() == target
-                && p.opaque == opaque
-                && p.mesh.size() == mesh.size()
-        });
         // A canvas taken whole is one linear map: resampled as a plain linear resize is
         // ([`crate::render::resize_linear`]), with none of the crisp-line work that only a
         // bending warp needs (judged blind, its notches and specks were the defects left once
         // nothing bent).
         let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
-        let unchanged = usable.is_some_and(|p| {
-            Arc::ptr_eq(&p.mesh, mesh) && Arc::ptr_eq(&p.warp, warp) && dirty.is_empty()
-        });
+        let unchanged = unchanged.is_some();
         let (mut out, pasted) = match usable {
             Some(p) if unchanged => {
                 // Same pixels, mesh and warp: the same floating marks, already drawn (a
@@ -151,6 +161,7 @@ impl RenderStage {
             image: out.clone(),
             opaque,
             floating,
+            marks: m.floating.clone(),
         });
         out
     }
