@@ -137,13 +137,13 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
     let strokes = Strokes::new(n_boundaries, len, min_len as usize, &edge);
     let mut out = Found::default();
     let mut steps = vec![0i16; len];
-    let (mut stroke, mut faint) = (vec![false; len], vec![false; len]);
+    let (mut stroke, mut faint) = (vec![0u8; len], vec![0u8; len]);
     let mut chain: Option<Chain> = None;
     for b in 1..n_boundaries {
         edge(b, &mut steps);
         strokes.mark(b, &steps, &mut stroke);
         for (f, &v) in faint.iter_mut().zip(&steps) {
-            *f = v.abs() > WEAK_STEP;
+            *f = (v.abs() > WEAK_STEP) as u8;
         }
         let first_solid = out.solid.len();
         for (start, end) in runs(&stroke, 1) {
@@ -152,7 +152,7 @@ fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) 
             if long {
                 out.solid.push((b as u32, start as u32, end as u32, rise));
             }
-            let cover = stroke[start..end].iter().filter(|&&s| s).count();
+            let cover = stroke[start..end].iter().filter(|&&s| s != 0).count();
             match &mut chain {
                 Some(c) if !long && start - c.to <= CHAIN_GAP_PX && c.rise == rise => {
                     c.to = end;
@@ -286,12 +286,12 @@ impl Strokes {
     }
 
     /// Marks where a step along boundary `b` is a stroke's side.
-    fn mark(&self, b: usize, steps: &[i16], stroke: &mut [bool]) {
+    fn mark(&self, b: usize, steps: &[i16], stroke: &mut [u8]) {
         let row = &self.least[b / self.tile * self.cols..][..self.cols];
         let tiles = stroke.chunks_mut(self.tile).zip(steps.chunks(self.tile));
         for ((marks, steps), &least) in tiles.zip(row) {
             for (m, &v) in marks.iter_mut().zip(steps) {
-                *m = v.abs() > least;
+                *m = (v.abs() > least) as u8;
             }
         }
     }
@@ -319,16 +319,17 @@ impl Chain {
     }
 }
 
-/// Maximal runs `start..end` of the positions that are `on`, gaps up to `gap` px bridged.
-fn runs(on: &[bool], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+/// Maximal runs `start..end` of the positions that are on (1, not 0), gaps up to `gap` px
+/// bridged.
+fn runs(on: &[u8], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
     let mut i = 0;
     std::iter::from_fn(move || {
-        i += on.get(i..)?.iter().position(|&o| o)?;
+        i = next(on, i, true)?;
         let start = i;
         let mut end = i + 1;
         loop {
-            end += on[end..].iter().take_while(|&&o| o).count();
-            match (1..=gap).find(|&g| on.get(end + g) == Some(&true)) {
+            end = next(on, end, false).unwrap_or(on.len());
+            match (1..=gap).find(|&g| on.get(end + g) == Some(&1)) {
                 Some(g) => end += g + 1,
                 None => break,
             }
@@ -338,12 +339,31 @@ fn runs(on: &[bool], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
     })
 }
 
+/// The first position from `from` on that is on (`want`) or off, eight at a time: most of a
+/// boundary is ground, and a byte at a time the scan was most of the line search.
+fn next(on: &[u8], from: usize, want: bool) -> Option<usize> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    let rest = on.get(from..)?;
+    let mut chunks = rest.chunks_exact(8);
+    for (k, c) in chunks.by_ref().enumerate() {
+        let word = u64::from_le_bytes(c.try_into().expect("chunks of 8"));
+        let hits = if want { word } else { !word & ONES };
+        if hits != 0 {
+            return Some(from + 8 * k + hits.trailing_zeros() as usize / 8);
+        }
+    }
+    let tail = rest.len() - chunks.remainder().len();
+    (chunks.remainder().iter())
+        .position(|&o| (o != 0) == want)
+        .map(|p| from + tail + p)
+}
+
 /// Whether the steps of a run that are a stroke's side mostly rise.
-fn rising(steps: &[i16], stroke: &[bool]) -> bool {
+fn rising(steps: &[i16], stroke: &[u8]) -> bool {
     steps
         .iter()
         .zip(stroke)
-        .filter(|(_, &s)| s)
+        .filter(|(_, &s)| s != 0)
         .map(|(&v, _)| v.signum() as i64)
         .sum::<i64>()
         > 0
@@ -613,7 +633,9 @@ mod tests {
         let step = |b: usize, x: usize| l[b * w + x] as i16 - l[(b - 1) * w + x] as i16;
         let texture_runs: usize = (1..h)
             .map(|b| {
-                let on: Vec<bool> = (0..w).map(|x| step(b, x).abs() > STROKE_STEP).collect();
+                let on: Vec<u8> = (0..w)
+                    .map(|x| (step(b, x).abs() > STROKE_STEP) as u8)
+                    .collect();
                 runs(&on, 1)
                     .filter(|(s, e)| (e - s) as u32 >= min_length(w, h))
                     .count()
@@ -630,5 +652,39 @@ mod tests {
             .collect();
         assert_eq!(found[0], (100.5, 20.0, 280.0));
         assert!(found.contains(&(195.5, 20.0, 280.0)), "{found:?}");
+    }
+
+    proptest::proptest! {
+        /// Runs found eight positions at a time are the runs a walk one position at a time
+        /// finds, with any gap bridged.
+        #[test]
+        fn runs_are_found_as_a_walk_finds_them(
+            on in proptest::collection::vec(proptest::prop_oneof![3 => proptest::strategy::Just(0u8), 2 => proptest::strategy::Just(1u8)], 0..70),
+            gap in 0usize..4,
+        ) {
+            let at = |i: usize| on.get(i) == Some(&1);
+            let mut walked = Vec::new();
+            let mut i = 0;
+            while i < on.len() {
+                if !at(i) {
+                    i += 1;
+                    continue;
+                }
+                let start = i;
+                let mut end = i + 1;
+                loop {
+                    if at(end) {
+                        end += 1;
+                    } else if let Some(g) = (1..=gap).find(|&g| at(end + g)) {
+                        end += g + 1;
+                    } else {
+                        break;
+                    }
+                }
+                walked.push((start, end));
+                i = end;
+            }
+            proptest::prop_assert_eq!(runs(&on, gap).collect::<Vec<_>>(), walked);
+        }
     }
 }
