@@ -248,7 +248,10 @@ impl Strokes {
             edge(b, &mut steps);
             let row = &mut quiet_steps[b / tile * cols..][..cols];
             for (q, chunk) in row.iter_mut().zip(steps.chunks(tile)) {
-                *q += chunk.iter().filter(|s| s.unsigned_abs() <= quiet).count() as u32;
+                *q += chunk
+                    .iter()
+                    .map(|s| (s.unsigned_abs() <= quiet) as u32)
+                    .sum::<u32>();
             }
         }
         let mut least = vec![STROKE_STEP; rows * cols];
@@ -339,9 +342,10 @@ fn runs(on: &[u8], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
     })
 }
 
-/// The first position from `from` on that is on (`want`) or off, eight at a time: most of a
-/// boundary is ground, and a byte at a time the scan was most of the line search.
-fn next(on: &[u8], from: usize, want: bool) -> Option<usize> {
+/// The first position from `from` on that is on (1, `want`) or off (0), eight at a time: most
+/// of a boundary (or a picture) is ground, and a byte at a time the scan was most of the line
+/// search.
+pub(super) fn next(on: &[u8], from: usize, want: bool) -> Option<usize> {
     const ONES: u64 = 0x0101_0101_0101_0101;
     let rest = on.get(from..)?;
     let mut chunks = rest.chunks_exact(8);
