@@ -920,12 +920,13 @@ impl MarkScan<'_> {
                 first_pale = out.len();
             }
             let ([c0, r0, c1, r1], gw) = (cells.window, self.gw);
-            for start in (r0..r1).flat_map(|r| (c0..c1).map(move |c| r * gw + c)) {
+            for (r, c) in (r0..r1).flat_map(|r| (c0..c1).map(move |c| (r, c))) {
+                let start = r * gw + c;
                 if self.seen[start] || self.imp[start] < least {
                     continue;
                 }
                 // One colour: a line chart's markers stand apart from the line through them.
-                let colour = cell_colour(self.src, s, start % gw, start / gw);
+                let colour = cell_colour(self.src, s, c, r);
                 if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
                     continue;
                 }
@@ -1061,7 +1062,9 @@ fn median_importance(imp: &[f32], gw: usize, [c0, r0, c1, r1]: [usize; 4]) -> f3
     let mut n = 0u32;
     for r in r0..r1 {
         for &v in &imp[r * gw + c0..r * gw + c1.max(c0)] {
-            hist[(v.clamp(0.0, 1.0) * 255.0) as usize] += 1;
+            // Selects, not `clamp` (which checks its bounds every call); NaN is 0 either way.
+            let v = if v > 0.0 { v } else { 0.0 };
+            hist[(if v < 1.0 { v } else { 1.0 } * 255.0) as usize] += 1;
             n += 1;
         }
     }

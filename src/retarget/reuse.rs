@@ -144,7 +144,15 @@ pub(crate) fn decide(
     } else {
         Vec::new()
     };
-    let changed = changed_saliency(&b.reference, vsm, options, &ignore, scratch);
+    // Under one affine map any change rebuilds: the first changed tile settles it.
+    let changed = changed_saliency(
+        &b.reference,
+        vsm,
+        options,
+        &ignore,
+        scratch,
+        rebuild_on_change,
+    );
     let touches_vector_marks = || {
         now.points.iter().any(|&p| changed.contains(p))
             || now.rings.iter().any(|m| {
@@ -171,13 +179,15 @@ pub(crate) fn decide(
 /// Tiles (of `tile_px` image pixels) where `now` differs from `reference` by more than the
 /// threshold, not counting map cells within the rectangles `ignore` (`[x0, y0, x1, y1]` in
 /// image px: where small marks were and are, which float over the warp instead of re-meshing
-/// it). Both maps must have the same size and scale.
+/// it). Both maps must have the same size and scale. With `first_only`, the scan stops at the
+/// first tile found: whether any changed is all the caller needs.
 pub(crate) fn changed_saliency(
     reference: &Vsm,
     now: &Vsm,
     options: &ReuseOptions,
     ignore: &[[f64; 4]],
     scratch: &mut Vec<bool>,
+    first_only: bool,
 ) -> TileMask {
     let size = now.size();
     let mut mask = TileMask::new(size, options.tile_px);
@@ -219,6 +229,9 @@ pub(crate) fn changed_saliency(
             let mean = sum / ((x1 - x0) * (y1 - y0)) as f32;
             if mean > options.tile_threshold {
                 mask.set(col as u32, row as u32);
+                if first_only {
+                    return mask;
+                }
             }
         }
     }
