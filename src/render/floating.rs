@@ -187,7 +187,7 @@ pub fn area_text_placements(
     let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
     let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
-    let group = type_groups(text, &area_of, &scale);
+    let group = type_groups(text, &area_of, &scale, Alignment::Edges);
     let mut room = Room {
         scale,
         shift: vec![DVec2::ZERO; text.len()],
@@ -542,7 +542,7 @@ fn ground_run(src: &Image, t: &TextBlock, ground: [u8; 3], dir: i64) -> usize {
 const SAME_TYPE_SIZE: f64 = 0.25;
 
 /// Labels read together keep one size: the blocks of one aligned column (a legend, a y axis'
-/// ticks, a dashboard's panel titles) or one row (an x axis' ticks) of the same type size in
+/// ticks, the centred titles of a dashboard's panels) or one row (an x axis' ticks) of the same type size in
 /// one area take the smallest scale any of them could float at, and follow the map together
 /// where one of them cannot float, since labels of two sizes read as two kinds of thing
 /// (after tearing, the most visible defect). Shrinking a block
@@ -552,7 +552,7 @@ fn share_scale(
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
     scale: &mut [Option<f64>],
 ) {
-    let group = type_groups(text, area_of, scale);
+    let group = type_groups(text, area_of, scale, Alignment::Centres);
     let mut least = vec![f64::INFINITY; text.len()];
     for (i, s) in scale.iter().enumerate() {
         if let Some(s) = *s {
@@ -566,12 +566,32 @@ fn share_scale(
     }
 }
 
+/// Centred blocks closer than this many line heights are stacked labels of two kinds (a
+/// tick label over its axis' title), not titles of panels side by side or one over another:
+/// stacked labels sit one or two lines apart, panels are many lines tall.
+const STACKED_LINES: f64 = 3.0;
+
+/// How blocks line up to be one column or row ([`type_groups`]).
+#[derive(Copy, Clone, PartialEq)]
+enum Alignment {
+    /// By a left or right edge, or by their tops or feet: the labels of an axis or a legend,
+    /// which move together when they make room ([`movers`]).
+    Edges,
+    /// Also by their centres, and sideways text with sideways text: besides those, the
+    /// titles of a grid of panels, centred over (or, set sideways, beside) their panels. They
+    /// read as one kind of label and keep one size ([`share_scale`]), though they never move
+    /// as one.
+    Centres,
+}
+
 /// The group of each block (the index of one member): blocks of one aligned column or row
-/// of the same type size in one area are one group, any other block a group of its own.
+/// of the same type size and direction in one area are one group, any other block a group
+/// of its own.
 fn type_groups(
     text: &[TextBlock],
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
     scale: &[Option<f64>],
+    align: Alignment,
 ) -> Vec<usize> {
     let n = text.len();
     let mut group: Vec<usize> = (0..n).collect();
@@ -586,11 +606,11 @@ fn type_groups(
     for i in 0..n {
         for j in i + 1..n {
             let (a, b) = (&text[i], &text[j]);
-            // Text set sideways is read alone: its feet are on its side.
+            // Text set sideways is read with text set sideways only: its feet are on its side.
             if scale[i].is_none()
                 || scale[j].is_none()
-                || a.sideways
-                || b.sideways
+                || a.sideways != b.sideways
+                || (a.sideways && align == Alignment::Edges)
                 || area_of(a) != area_of(b)
             {
                 continue;
@@ -601,9 +621,24 @@ fn type_groups(
             }
             let apart_y = a.y0 >= b.y1 || a.y1 <= b.y0;
             let apart_x = a.x0 >= b.x1 || a.x1 <= b.x0;
-            let column = apart_y && (near(a.x0, b.x0) || near(a.x1, b.x1));
-            // Tops or feet aligned: a descender moves one and not the other.
-            let row = apart_x && (near(a.y0, b.y0) || near(a.y1, b.y1));
+            // Left, right or centre aligned: the titles of a grid of panels are centred
+            // over their panels, one column of them per column of panels.
+            let centres = align == Alignment::Centres;
+            // Centred a few lines apart is a label and its caption (a tick and the axis'
+            // title under it), two kinds of text; titles of panels stand a panel apart.
+            let gap_y = a.y0.max(b.y0).saturating_sub(a.y1.min(b.y1)) as f64;
+            let gap_x = a.x0.max(b.x0).saturating_sub(a.x1.min(b.x1)) as f64;
+            let far = |gap: f64| gap >= STACKED_LINES * ha.max(hb);
+            let centred =
+                centres && far(gap_y) && (a.x0 + a.x1).abs_diff(b.x0 + b.x1) <= 2 * ALIGNED_PX;
+            let column = apart_y && (near(a.x0, b.x0) || near(a.x1, b.x1) || centred);
+            // Tops or feet aligned: a descender moves one and not the other. Sideways titles
+            // of a row of panels are centred on their panels' heights instead.
+            let centred_y = centres
+                && a.sideways
+                && far(gap_x)
+                && (a.y0 + a.y1).abs_diff(b.y0 + b.y1) <= 2 * ALIGNED_PX;
+            let row = apart_x && (near(a.y0, b.y0) || near(a.y1, b.y1) || centred_y);
             if column || row {
                 let (ri, rj) = (root(&mut group, i), root(&mut group, j));
                 group[ri] = rj;
@@ -1627,6 +1662,53 @@ fn keep_inside(d: f64, lo: u32, hi: u32, side: u32) -> i64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// The titles of a 2×2 grid of panels, centred over their panels, and the sideways axis
+    /// titles beside them: each could float at another scale, and after sharing they keep
+    /// one size per kind (upright titles one, sideways titles another), while an axis' tick
+    /// labels, aligned by edges, still make room as a column of their own.
+    #[test]
+    fn the_titles_of_a_grid_of_panels_keep_one_size() {
+        let upright = |x0: u32, y0: u32, x1: u32| TextBlock {
+            x0,
+            y0,
+            x1,
+            y1: y0 + 15,
+            line_height: 15,
+            sideways: false,
+        };
+        let sideways = |x0: u32, y0: u32, x1: u32, y1: u32| TextBlock {
+            x0,
+            y0,
+            x1,
+            y1,
+            line_height: 15,
+            sideways: true,
+        };
+        let text = [
+            upright(287, 54, 425),        // "Income and age", centre 356
+            upright(943, 55, 1026),       // "Coverage", centre 984.5 (its foot lower by a "g")
+            upright(327, 420, 385),       // "Scores", centre 356
+            upright(917, 419, 1052),      // "Index over time", centre 984.5
+            sideways(62, 166, 80, 250),   // "Age (years)", its right edge by Count's
+            sideways(66, 549, 81, 597),   // "Count", centre 573
+            sideways(691, 551, 706, 595), // "Index", centre 573
+            upright(410, 700, 432),       // a tick label "50" ...
+            upright(399, 718, 443),       // ... centred over its axis' title "Score"
+        ];
+        let area_of = |_: &TextBlock| Some(0);
+        let mut scale = [0.81, 0.81, 1.0, 1.0, 1.0, 0.9, 0.81, 0.7, 1.0].map(Some);
+        share_scale(&text, &area_of, &mut scale);
+        assert!(scale[..4].iter().all(|&s| s == Some(0.81)), "{scale:?}");
+        assert!(scale[4..7].iter().all(|&s| s == Some(0.81)), "{scale:?}");
+        // A label a line over a caption centred under it is another kind of text.
+        assert_eq!(scale[8], Some(1.0));
+        // Making room, the titles are not one column that moves together.
+        let edges = type_groups(&text, &area_of, &[Some(1.0); 9], Alignment::Edges);
+        assert_ne!(edges[0], edges[2]);
+        assert!(edges[4..7].iter().enumerate().all(|(i, &g)| g == 4 + i));
+    }
+
     use super::*;
     use crate::structure::{AreaKind, DataArea, Structure};
 
