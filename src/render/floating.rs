@@ -484,19 +484,25 @@ fn movers(text: &[TextBlock], group: &[usize]) -> Vec<Mover> {
 
 /// Block i's anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge
 /// most of its blocks share: a y axis' "120" and "100" share their left edges by chance, all
-/// its labels their right.
+/// its labels their right. Only labels of one type size make a column: a heading whose end
+/// falls where a panel's labels end below it is still centred.
 fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
     let t = &text[i];
     if t.sideways {
         return 0.5;
     }
-    // Blocks aligned with `t` by an edge (above or below it).
+    let same_size = |o: &TextBlock| {
+        let (a, b) = (o.line_height as f64, t.line_height as f64);
+        (a - b).abs() <= SAME_TYPE_SIZE * a.max(b)
+    };
+    // Blocks of its size aligned with `t` by an edge (above or below it).
     let column = |edge: fn(&TextBlock) -> u32| {
         text.iter()
             .enumerate()
             .filter(|&(j, o)| {
                 j != i
                     && !o.sideways
+                    && same_size(o)
                     && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
                     && (o.y0 >= t.y1 || o.y1 <= t.y0)
             })
@@ -1662,6 +1668,29 @@ fn keep_inside(d: f64, lo: u32, hi: u32, side: u32) -> i64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// A heading whose right end falls where a panel's right-aligned labels end, below it,
+    /// stays centred; the labels keep their right edge.
+    #[test]
+    fn a_heading_is_no_member_of_a_column_of_labels() {
+        let block = |x0: u32, y0: u32, x1: u32, h: u32| TextBlock {
+            x0,
+            y0,
+            x1,
+            y1: y0 + h,
+            line_height: h,
+            sideways: false,
+        };
+        let text = [
+            block(531, 13, 734, 27),
+            block(703, 94, 734, 16),
+            block(683, 165, 734, 15),
+            block(692, 236, 735, 15),
+        ];
+        let src = Image::filled(Size::new(800, 300).unwrap(), [255; 4]);
+        assert_eq!(anchor(&src, &text, [255; 3], 0), 0.5);
+        assert_eq!(anchor(&src, &text, [255; 3], 1), 1.0);
+    }
 
     /// The titles of a 2×2 grid of panels, centred over their panels, and the sideways axis
     /// titles beside them: each could float at another scale, and after sharing they keep
