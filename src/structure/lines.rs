@@ -98,23 +98,10 @@ pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found {
     }
 }
 
-/// Vertical lines of a `w × h` luminance image.
-pub(crate) fn vertical(l: &[u8], w: usize, h: usize) -> Found {
-    // Column boundaries are walked on a transposed copy, so that both directions read rows;
-    // it is copied in square blocks that stay in cache on both sides.
-    const BLOCK: usize = 32;
-    let mut t = vec![0u8; w * h];
-    for y0 in (0..h).step_by(BLOCK) {
-        for x0 in (0..w).step_by(BLOCK) {
-            for y in y0..(y0 + BLOCK).min(h) {
-                let row = &l[y * w..][x0..(x0 + BLOCK).min(w)];
-                for (x, &v) in (x0..).zip(row) {
-                    t[x * h + y] = v;
-                }
-            }
-        }
-    }
-    horizontal(&t, h, w)
+/// Vertical lines of a `w × h` luminance image, given transposed ([`super::luma::transposed`],
+/// shared with the sideways text search): column boundaries are walked as rows.
+pub(crate) fn vertical(transposed: &[u8], w: usize, h: usize) -> Found {
+    horizontal(transposed, h, w)
 }
 
 /// One run of steps along a boundary: `(boundary, from, to, rising)`, `rising` when the
@@ -474,7 +461,7 @@ mod tests {
                 width: 0
             }
         );
-        let vl = vertical(&l, w, h).solid;
+        let vl = vertical(&crate::structure::luma::transposed(&l, w, h), w, h).solid;
         assert_eq!(
             vl,
             vec![Line {
@@ -503,7 +490,10 @@ mod tests {
                     }
                 }
             }
-            (horizontal(&l, w, h), vertical(&l, w, h))
+            (
+                horizontal(&l, w, h),
+                vertical(&crate::structure::luma::transposed(&l, w, h), w, h),
+            )
         };
         let (h, v) = cells(14, 2, 3);
         assert!(h.solid.is_empty() && v.solid.is_empty());
@@ -594,7 +584,11 @@ mod tests {
             })
             .collect();
         assert!(horizontal(&l, w, h).weak.is_empty());
-        assert!(vertical(&l, w, h).weak.is_empty());
+        assert!(
+            vertical(&crate::structure::luma::transposed(&l, w, h), w, h)
+                .weak
+                .is_empty()
+        );
     }
 
     /// A glyph's stroke (a heading's "l", 30 px) is not a line and a rule a little longer is;
@@ -647,7 +641,11 @@ mod tests {
             .sum();
         assert!(texture_runs > 10, "{texture_runs}");
         assert!(horizontal(&l, w, h).solid.is_empty());
-        assert!(vertical(&l, w, h).solid.is_empty());
+        assert!(
+            vertical(&crate::structure::luma::transposed(&l, w, h), w, h)
+                .solid
+                .is_empty()
+        );
         l[100 * w + 20..100 * w + 280].fill(0); // a black rule across the texture
         l[190 * w..200 * w].fill(255); // a clean strip, a #ddd rule in it
         l[195 * w + 20..195 * w + 280].fill(0xdd);

@@ -16,6 +16,25 @@ pub(crate) fn luma(image: ImageRef<'_>, out: &mut Vec<u8>) {
     }
 }
 
+/// The `w × h` image `l` transposed (`h × w`: column `x` becomes row `x`), so that vertical
+/// lines and sideways text are read along rows as well. Copied in square blocks that stay in
+/// cache on both sides.
+pub(crate) fn transposed(l: &[u8], w: usize, h: usize) -> Vec<u8> {
+    const BLOCK: usize = 32;
+    let mut t = vec![0u8; w * h];
+    for y0 in (0..h).step_by(BLOCK) {
+        for x0 in (0..w).step_by(BLOCK) {
+            for y in y0..(y0 + BLOCK).min(h) {
+                let row = &l[y * w..][x0..(x0 + BLOCK).min(w)];
+                for (x, &v) in (x0..).zip(row) {
+                    t[x * h + y] = v;
+                }
+            }
+        }
+    }
+    t
+}
+
 /// `x / 255` for `x` up to 65152 (the most the luma's blend reaches), without a division.
 #[inline(always)]
 fn div255(x: u16) -> u8 {

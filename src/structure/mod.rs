@@ -37,26 +37,14 @@ pub struct Structure {
 const MIN_ROTATED_ASPECT: u32 = 2;
 
 /// Text set up the side (a y axis' title, turned 90° either way): the text of the transposed
-/// picture, turned back.
+/// picture (`transposed`, the `w × h` luma's [`luma::transposed`]), turned back.
 fn rotated_text(
-    l: &[u8],
+    transposed: &[u8],
     w: usize,
     h: usize,
     [horizontal, vertical]: [&[Line]; 2],
 ) -> Vec<TextBlock> {
-    // Transposed in tiles, so that both reads and writes stay in cache.
-    const TILE: usize = 32;
-    let mut t = vec![0u8; l.len()];
-    for y0 in (0..h).step_by(TILE) {
-        for x0 in (0..w).step_by(TILE) {
-            for y in y0..(y0 + TILE).min(h) {
-                for x in x0..(x0 + TILE).min(w) {
-                    t[x * h + y] = l[y * w + x];
-                }
-            }
-        }
-    }
-    text::detect(&t, h, w, [vertical, horizontal], &[])
+    text::detect(transposed, h, w, [vertical, horizontal], &[])
         .into_iter()
         .map(|b| TextBlock {
             x0: b.y0,
@@ -124,7 +112,8 @@ impl Structure {
         let (w, h) = (image.width() as usize, image.height() as usize);
         let mut l = Vec::new();
         luma::luma(image, &mut l);
-        let (h_found, v_found) = (lines::horizontal(&l, w, h), lines::vertical(&l, w, h));
+        let t = luma::transposed(&l, w, h);
+        let (h_found, v_found) = (lines::horizontal(&l, w, h), lines::vertical(&t, w, h));
         let (mut horizontal, mut vertical) = (h_found.solid, v_found.solid);
         // Text is found among solid lines only: a chain may run along the foot of a word, and
         // clearing a faint line's pixels would cut a texture into glyph-sized pieces.
@@ -138,7 +127,7 @@ impl Structure {
         let touch = |s: &TextBlock, u: &TextBlock| {
             !(u.x0 > s.x1 || s.x0 > u.x1 || u.y0 > s.y1 || s.y0 > u.y1)
         };
-        let sideways: Vec<TextBlock> = rotated_text(&l, w, h, [&horizontal, &vertical])
+        let sideways: Vec<TextBlock> = rotated_text(&t, w, h, [&horizontal, &vertical])
             .into_iter()
             .filter(|s| {
                 let mut pieces = text.iter().filter(|u| touch(s, u)).peekable();
