@@ -131,10 +131,12 @@ impl<R: Read + Send> FrameSource for RawSource<R> {
             });
         }
         let pixels = pixels.unwrap_or_else(|| {
-            self.buf
-                .chunks_exact(3)
-                .map(|p| [p[0], p[1], p[2], 255])
-                .collect()
+            // Sized, then one loop over both buffers: no per-pixel push.
+            let mut px = vec![[0u8, 0, 0, 255]; self.size.area()];
+            for (o, p) in px.iter_mut().zip(self.buf.chunks_exact(3)) {
+                o[..3].copy_from_slice(p);
+            }
+            px
         });
         let image = Image::from_pixels(self.size, pixels).ok_or_else(|| {
             Error::Internal(format!(
@@ -182,9 +184,13 @@ impl<W: Write + Send> FrameSink for RawSink<W> {
         let bytes: &[u8] = match self.format {
             RawFormat::Rgba => frame.image.as_bytes(),
             RawFormat::Rgb24 => {
-                self.buf.clear();
-                self.buf
-                    .extend(frame.image.pixels().iter().flat_map(|p| [p[0], p[1], p[2]]));
+                // Sized, then one loop over both buffers: a flat_map of arrays went byte by
+                // byte.
+                let pixels = frame.image.pixels();
+                self.buf.resize(3 * pixels.len(), 0);
+                for (o, p) in self.buf.chunks_exact_mut(3).zip(pixels) {
+                    o.copy_from_slice(&p[..3]);
+                }
                 &self.buf
             }
         };
