@@ -309,14 +309,18 @@ fn yuv_to_rgba(size: Size, chroma: Chroma, y: &[u8], u: &[u8], v: &[u8]) -> Imag
     let (w, h) = (size.width as usize, size.height as usize);
     let (sx, sy) = chroma.factors();
     let (cw, ch) = (w.div_ceil(sx), h.div_ceil(sy));
-    let mut pixels = Vec::with_capacity(w * h);
+    // Sized first and written row by row: `extend` from a mapped iterator went pixel by pixel.
+    let mut pixels = vec![[0u8; 4]; w * h];
     // Chroma of one output row, scaled by 16.
     let (mut ur, mut vr) = (vec![0u16; w], vec![0u16; w]);
     let (mut uv_col_u, mut uv_col_v) = (vec![0u16; cw], vec![0u16; cw]);
     for row in 0..h {
         let yrow = &y[row * w..(row + 1) * w];
+        let prow = &mut pixels[row * w..(row + 1) * w];
         if chroma == Chroma::Mono {
-            pixels.extend(yrow.iter().map(|&l| to_rgb(l as i32, 128, 128)));
+            for (o, &l) in prow.iter_mut().zip(yrow) {
+                *o = to_rgb(l as i32, 128, 128);
+            }
             continue;
         }
         // Vertical pass (x4).
@@ -355,9 +359,9 @@ fn yuv_to_rgba(size: Size, chroma: Chroma, y: &[u8], u: &[u8], v: &[u8]) -> Imag
                 }
             }
         }
-        pixels.extend(yrow.iter().zip(&ur).zip(&vr).map(|((&l, &cu), &cv)| {
-            to_rgb(l as i32, ((cu + 8) >> 4) as i32, ((cv + 8) >> 4) as i32)
-        }));
+        for (o, ((&l, &cu), &cv)) in prow.iter_mut().zip(yrow.iter().zip(&ur).zip(&vr)) {
+            *o = to_rgb(l as i32, ((cu + 8) >> 4) as i32, ((cv + 8) >> 4) as i32);
+        }
     }
     Image::from_pixels(size, pixels).unwrap_or_else(|| Image::new(size))
 }
@@ -439,20 +443,34 @@ impl<W: Write + Send> FrameSink for Y4mSink<W> {
         let (yp, uv) = self.buf[y0..].split_at_mut(w * h);
         let (up, vp) = uv.split_at_mut(cw * ch);
         let px = img.pixels();
+        // Luma in one flat loop (vectors), then chroma per 2×2 block: a whole block sums four
+        // samples and rounds by a shift; a block cut by an odd edge averages what it has.
+        for (o, &p) in yp.iter_mut().zip(px) {
+            *o = to_yuv(p).0;
+        }
+        let (mut su, mut sv, mut n) = (vec![0i32; cw], vec![0i32; cw], vec![0i32; cw]);
         for cy in 0..ch {
-            for cx in 0..cw {
-                let (mut su, mut sv, mut n) = (0i32, 0i32, 0i32);
-                for yy in 2 * cy..(2 * cy + 2).min(h) {
-                    for xx in 2 * cx..(2 * cx + 2).min(w) {
-                        let (l, u, v) = to_yuv(px[yy * w + xx]);
-                        yp[yy * w + xx] = l;
-                        su += u;
-                        sv += v;
-                        n += 1;
-                    }
+            let rows = (2 * cy..(2 * cy + 2).min(h)).map(|yy| &px[yy * w..][..w]);
+            let (urow, vrow) = (&mut up[cy * cw..][..cw], &mut vp[cy * cw..][..cw]);
+            for sums in [&mut su, &mut sv, &mut n] {
+                sums.fill(0);
+            }
+            for row in rows {
+                for (x, &p) in row.iter().enumerate() {
+                    let (_, u, v) = to_yuv(p);
+                    su[x / 2] += u;
+                    sv[x / 2] += v;
+                    n[x / 2] += 1;
                 }
-                up[cy * cw + cx] = (128 + (su + n / 2).div_euclid(n)) as u8;
-                vp[cy * cw + cx] = (128 + (sv + n / 2).div_euclid(n)) as u8;
+            }
+            for cx in 0..cw {
+                let n = n[cx];
+                let mean = |s: i32| match n {
+                    4 => (s + 2) >> 2,
+                    _ => (s + n / 2).div_euclid(n),
+                };
+                urow[cx] = (128 + mean(su[cx])) as u8;
+                vrow[cx] = (128 + mean(sv[cx])) as u8;
             }
         }
         self.writer
