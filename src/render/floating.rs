@@ -491,10 +491,6 @@ fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
     if t.sideways {
         return 0.5;
     }
-    let same_size = |o: &TextBlock| {
-        let (a, b) = (o.line_height as f64, t.line_height as f64);
-        (a - b).abs() <= SAME_TYPE_SIZE * a.max(b)
-    };
     // Blocks of its size aligned with `t` by an edge (above or below it).
     let column = |edge: fn(&TextBlock) -> u32| {
         text.iter()
@@ -502,7 +498,7 @@ fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
             .filter(|&(j, o)| {
                 j != i
                     && !o.sideways
-                    && same_size(o)
+                    && same_type_size(o, t)
                     && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
                     && (o.y0 >= t.y1 || o.y1 <= t.y0)
             })
@@ -546,6 +542,12 @@ fn ground_run(src: &Image, t: &TextBlock, ground: [u8; 3], dir: i64) -> usize {
 
 /// Line heights this close (as a share of the larger) are one size of type.
 const SAME_TYPE_SIZE: f64 = 0.25;
+
+/// Whether blocks `a` and `b` are set in one size of type ([`SAME_TYPE_SIZE`]).
+fn same_type_size(a: &TextBlock, b: &TextBlock) -> bool {
+    let (ha, hb) = (a.line_height as f64, b.line_height as f64);
+    (ha - hb).abs() <= SAME_TYPE_SIZE * ha.max(hb)
+}
 
 /// Labels read together keep one size: the blocks of one aligned column (a legend, a y axis'
 /// ticks, the centred titles of a dashboard's panels) or one row (an x axis' ticks) of the same type size in
@@ -621,10 +623,10 @@ fn type_groups(
             {
                 continue;
             }
-            let (ha, hb) = (a.line_height as f64, b.line_height as f64);
-            if (ha - hb).abs() > SAME_TYPE_SIZE * ha.max(hb) {
+            if !same_type_size(a, b) {
                 continue;
             }
+            let (ha, hb) = (a.line_height as f64, b.line_height as f64);
             let apart_y = a.y0 >= b.y1 || a.y1 <= b.y0;
             let apart_x = a.x0 >= b.x1 || a.x1 <= b.x0;
             // Left, right or centre aligned: the titles of a grid of panels are centred
