@@ -155,15 +155,20 @@ impl Axis {
 /// `f32::clamp` asserts its bounds on every call.
 #[inline(always)]
 fn clamp(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [f32; 4] {
-    let c = |c: usize| {
-        let a = if v[c] < lo[c] { lo[c] } else { v[c] };
-        if a > hi[c] {
-            hi[c]
-        } else {
-            a
-        }
-    };
+    let c = |c: usize| between(v[c], lo[c], hi[c]);
     [c(0), c(1), c(2), c(3)]
+}
+
+/// `v` clamped to `lo..=hi` by two selects (one vector instruction each), for samples that
+/// are never NaN.
+#[inline(always)]
+fn between(v: f32, lo: f32, hi: f32) -> f32 {
+    let v = if v < lo { lo } else { v };
+    if v > hi {
+        hi
+    } else {
+        v
+    }
 }
 
 /// A row of filtered pixels rounded to bytes: `(v + 0.5).clamp(0.0, 255.0) as u8`, each
@@ -174,9 +179,7 @@ fn round_row(row: &[[f32; 4]], out: &mut [[u8; 4]]) {
     /// integer (ties to even) in the low bits of the sum's mantissa.
     const MANTISSA: f32 = 8_388_608.0;
     for (o, &v) in out.as_flattened_mut().iter_mut().zip(row.as_flattened()) {
-        let x = v + 0.5;
-        let x = if x < 0.0 { 0.0 } else { x };
-        let x = if x > 255.0 { 255.0 } else { x };
+        let x = between(v + 0.5, 0.0, 255.0);
         let sum = x + MANTISSA;
         let nearest = sum - MANTISSA;
         // `as u8` truncates: one less where rounding went up.
@@ -273,8 +276,7 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
             }
             let (a, l, h) = (acc.as_flattened(), lo.as_flattened(), hi.as_flattened());
             for (((c, &a), &l), &h) in clamped.as_flattened_mut().iter_mut().zip(a).zip(l).zip(h) {
-                let a = if a < l { l } else { a };
-                *c = if a > h { h } else { a };
+                *c = between(a, l, h);
             }
             round_row(&clamped, orow);
         }
