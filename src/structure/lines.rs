@@ -15,6 +15,8 @@
 //! (a plot's white grid on grey, a light panel border) make a line only when long, and bridge
 //! the gaps where grid lines cross.
 
+use super::mask::next_marked;
+
 /// Least luminance step of a stroke's side on a clean ground: about a tenth of the lightness
 /// scale (ΔL* ≈ 10, some 25 of the 255 sRGB levels), a difference that reads at a glance as a
 /// drawn rule rather than as a tint of its ground. The usual light rules step more (#ddd on
@@ -314,11 +316,11 @@ impl Chain {
 fn runs(on: &[u8], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
     let mut i = 0;
     std::iter::from_fn(move || {
-        i = next(on, i, true)?;
+        i = next_marked(on, i, true)?;
         let start = i;
         let mut end = i + 1;
         loop {
-            end = next(on, end, false).unwrap_or(on.len());
+            end = next_marked(on, end, false).unwrap_or(on.len());
             match (1..=gap).find(|&g| on.get(end + g) == Some(&1)) {
                 Some(g) => end += g + 1,
                 None => break,
@@ -327,26 +329,6 @@ fn runs(on: &[u8], gap: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         i = end;
         Some((start, end))
     })
-}
-
-/// The first position from `from` on that is on (1, `want`) or off (0), eight at a time: most
-/// of a boundary (or a picture) is ground, and a byte at a time the scan was most of the line
-/// search.
-pub(super) fn next(on: &[u8], from: usize, want: bool) -> Option<usize> {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    let rest = on.get(from..)?;
-    let mut chunks = rest.chunks_exact(8);
-    for (k, c) in chunks.by_ref().enumerate() {
-        let word = u64::from_le_bytes(c.try_into().expect("chunks of 8"));
-        let hits = if want { word } else { !word & ONES };
-        if hits != 0 {
-            return Some(from + 8 * k + hits.trailing_zeros() as usize / 8);
-        }
-    }
-    let tail = rest.len() - chunks.remainder().len();
-    (chunks.remainder().iter())
-        .position(|&o| (o != 0) == want)
-        .map(|p| from + tail + p)
 }
 
 /// Whether the steps of a run that are a stroke's side mostly rise.

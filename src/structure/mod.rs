@@ -11,6 +11,7 @@
 mod areas;
 mod lines;
 mod luma;
+mod mask;
 mod text;
 
 pub use areas::{AreaKind, DataArea};

@@ -195,7 +195,7 @@ fn components(mask: &[bool], w: usize, h: usize) -> Vec<Comp> {
     let mut stack: Vec<(u32, u32)> = Vec::new();
     let mut out = Vec::new();
     let mut from = 0;
-    while let Some(start) = super::lines::next(&left, from, true) {
+    while let Some(start) = super::mask::next_marked(&left, from, true) {
         from = start + 1;
         left[start] = 0;
         stack.push(((start % w) as u32, (start / w) as u32));
