@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::io::{write_atomic, write_still, OutputFormat};
 use crate::mesh::Mesh;
-use crate::render::area_text_placements;
+use crate::render::{area_text_placements, AreaMaps, CanvasMap};
 use crate::retarget::Retargeted;
 use crate::saliency::{SaliencyLevel, Vsm};
 use crate::solve::Warp;
@@ -239,7 +239,13 @@ fn text_out_json(input: &Image, mesh: &Mesh, warp: &Warp) -> serde_json::Value {
     let out = warp.positions();
     let maps = warp.area_maps(mesh);
     let placed = mesh.structure().map_or(Vec::new(), |s| {
-        area_text_placements(input, s, &maps, warp.target())
+        let canvas =
+            (s.whole_canvas()).then(|| CanvasMap::new(Some(s), mesh.size(), warp.target()));
+        let maps = AreaMaps {
+            areas: &maps,
+            canvas: canvas.as_ref(),
+        };
+        area_text_placements(input, s, maps, warp.target())
     });
     let floated = |k: usize| -> Option<serde_json::Value> {
         let p = (*placed.get(k)?)?;

@@ -81,7 +81,7 @@ pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
 pub use limits::{parse_bytes, Limit, Limits, MemoryPlan};
 pub use mesh::{Boundary, Mark, Mesh, MeshOptions, Role};
-pub use render::{resize_linear, Renderer};
+pub use render::{resize_linear, resize_mapped, AxisMap, CanvasMap, Renderer};
 pub use retarget::{
     retarget, Analysis, Decision, Frame, FrameStats, Options, Retargeted, Retargeter, ReuseOptions,
     StageTimes, Status,

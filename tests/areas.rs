@@ -372,3 +372,59 @@ fn where_nothing_floats_the_default_is_the_linear_resize() {
         );
     }
 }
+
+/// Dark columns of `img` in `x0..x1` between rows `y0..y1`: the first and last, if any.
+fn ink_columns(img: &Image, [x0, x1]: [u32; 2], [y0, y1]: [u32; 2]) -> Option<(u32, u32)> {
+    let dark = |x: u32| (y0..y1).any(|y| img.get(x, y)[0] < 128);
+    let first = (x0..x1).find(|&x| dark(x))?;
+    let last = (x0..x1).rev().find(|&x| dark(x))?;
+    Some((first, last))
+}
+
+/// Tick labels in a chart's left margin keep more of their width than a linear resize's
+/// half (the margin's blank columns give way), while the plot's axes and bars are the
+/// linear resize's, moved by whole pixels.
+#[test]
+fn labels_in_a_margin_keep_their_width_and_the_plot_its_linear_place() {
+    let mut img = Image::filled(Size::new(600, 300).unwrap(), [255; 4]);
+    for (i, label) in ["1200", "800", "400"].iter().enumerate() {
+        vizretarget::compare::draw_label(&mut img, 8.0, 40.0 + 80.0 * i as f32, 18.0, label);
+    }
+    rect(&mut img, 120, 20, 122, 280, AXIS);
+    rect(&mut img, 120, 278, 590, 280, AXIS);
+    for (i, h) in [120u32, 80, 170, 60, 140].iter().enumerate() {
+        let x = 160 + i as u32 * 80;
+        rect(&mut img, x, 278 - h, x + 40, 278, [200, 80, 40, 255]);
+    }
+    let target = Size::new(300, 300).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap().image;
+    let linear = vizretarget::resize_linear(img.as_ref(), target);
+    let rows = [35, 65];
+    let (a, b) = ink_columns(&img, [0, 110], rows).expect("the label is drawn");
+    let (c, d) = ink_columns(&out, [0, 55], rows).expect("the label is kept");
+    let (e, f) = ink_columns(&linear, [0, 55], rows).expect("the label is resized");
+    let (src, kept, squeezed) = (b - a + 1, d - c + 1, f - e + 1);
+    assert!(
+        kept as f64 >= 0.65 * src as f64 && kept > squeezed + 2,
+        "label {src} px wide, kept {kept}, linear {squeezed}"
+    );
+    // The plot: from the axis on, the linear resize's columns, bars and all, moved by as
+    // many whole pixels as the margin grew.
+    let axis = |img: &Image| {
+        (30..150)
+            .find(|&x| img.get(x, 150)[0] < 128)
+            .expect("an axis")
+    };
+    let (at, at_linear) = (axis(&out), axis(&linear));
+    let plot = 300 - at.max(at_linear) - 2;
+    for i in 0..plot {
+        for y in (0..300).step_by(7) {
+            let (p, q) = (out.get(at + i, y), linear.get(at_linear + i, y));
+            assert!(
+                (0..3).all(|k| p[k].abs_diff(q[k]) <= 1),
+                "({}, {y}): {p:?} against the linear {q:?}",
+                at + i
+            );
+        }
+    }
+}

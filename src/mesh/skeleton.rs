@@ -66,6 +66,7 @@ pub(crate) fn as_used(s: &Structure, size: Size) -> Structure {
             .collect(),
         text,
         areas: s.areas.clone(),
+        bands: s.bands.clone(),
     }
 }
 

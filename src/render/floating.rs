@@ -10,6 +10,7 @@
 //! mark is copied at full size, shifted by whole pixels to where the warp carries its centre.
 //! Only the pixels it covered and now covers change.
 
+use super::canvas::AreaMaps;
 use super::fill::fill_from_surroundings;
 use crate::image::{Image, Size};
 use crate::mesh::Mark;
@@ -177,13 +178,13 @@ pub struct TextPlacement {
 /// first step aside (at most `NUDGE_LINES` line heights, a row of labels across its line
 /// and a column along its lines, as one), then are made smaller together, and a block that
 /// would fall below `MIN_TEXT_FLOAT` is left to the map. Kept inside the output canvas.
-pub fn area_text_placements(
+pub fn area_text_placements<'m>(
     src: &Image,
     st: &crate::structure::Structure,
-    maps: &[Option<[f64; 4]>],
+    maps: impl Into<AreaMaps<'m>>,
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
-    let layout = TextLayout::new(src, st, maps, target);
+    let layout = TextLayout::new(src, st, maps.into(), target);
     let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
     let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
@@ -222,7 +223,7 @@ struct TextLayout<'a> {
     src: &'a Image,
     st: &'a crate::structure::Structure,
     text: &'a [TextBlock],
-    maps: &'a [Option<[f64; 4]>],
+    maps: AreaMaps<'a>,
     /// Each block's ground colour and the share of its box's ring it takes ([`box_ground`]).
     grounds: Vec<([u8; 3], f64)>,
     /// Whether each block's ink is one colour ([`one_ink`]): ink of two colours is not a
@@ -256,7 +257,7 @@ impl<'a> TextLayout<'a> {
     fn new(
         src: &'a Image,
         st: &'a crate::structure::Structure,
-        maps: &'a [Option<[f64; 4]>],
+        maps: AreaMaps<'a>,
         target: Size,
     ) -> TextLayout<'a> {
         let text = &st.text[..];
@@ -283,11 +284,18 @@ impl<'a> TextLayout<'a> {
         self.st.area_of(t)
     }
 
+    /// The map that carries block i: its area's, around the block's centre.
+    fn map_of(&self, i: usize) -> Option<[f64; 4]> {
+        let t = &self.text[i];
+        let centre = DVec2::new((t.x0 + t.x1) as f64 / 2.0, (t.y0 + t.y1) as f64 / 2.0);
+        self.maps.at(self.area_of(t)?, centre)
+    }
+
     /// Output box of block i at scale `s`, moved by `d` (None: not in an area with a map).
     fn placed(&self, i: usize, s: f64, d: DVec2) -> Option<[f64; 4]> {
         let t = &self.text[i];
         let (tw, th) = self.size;
-        let [ax, bx, ay, by] = (*self.maps.get(self.area_of(t)?)?)?;
+        let [ax, bx, ay, by] = self.map_of(i)?;
         let (x0, x1, y0, y1) = (t.x0 as f64, t.x1 as f64, t.y0 as f64, t.y1 as f64);
         let k = self.anchors[i];
         let ax_src = x0 + k * (x1 - x0);
@@ -301,7 +309,6 @@ impl<'a> TextLayout<'a> {
     /// area's two scales, at most 1; [`CANNOT_FLOAT`] on a busy ground, `None` if it is no
     /// word or has no map.
     fn float_scale(&self, i: usize) -> Option<f64> {
-        let t = &self.text[i];
         // Only text on flat ground floats: its box, pasted whole, then hides nothing but
         // its own squeezed copy. A block on a busy ground (a label on a map, in a treemap's
         // cell, the crossing of a heat map's separators) follows the map, and so does
@@ -312,15 +319,14 @@ impl<'a> TextLayout<'a> {
         if !self.words[i] {
             return None;
         }
-        let [ax, _, ay, _] = (*self.maps.get(self.area_of(t)?)?)?;
+        let [ax, _, ay, _] = self.map_of(i)?;
         Some(ax.max(ay).min(1.0))
     }
 
     /// Whether block i drawn over `b` hides ink that is not text floating with it.
     fn covers(&self, i: usize, b: [f64; 4], floating: &[&TextBlock]) -> bool {
         let t = &self.text[i];
-        let (ground, area) = (self.grounds[i].0, self.area_of(t));
-        covers_ink(self.src, t, ground, b, self.maps, area, floating)
+        covers_ink(self.src, t, self.grounds[i].0, b, self.map_of(i), floating)
     }
 
     /// Whether block i over `bi` is in the way: it overlaps another block's box or covers
@@ -802,11 +808,10 @@ fn covers_ink(
     t: &TextBlock,
     ground: [u8; 3],
     b: [f64; 4],
-    maps: &[Option<[f64; 4]>],
-    area: Option<usize>,
+    map: Option<[f64; 4]>,
     floating: &[&TextBlock],
 ) -> bool {
-    let Some([ax, bx, ay, by]) = area.and_then(|k| *maps.get(k)?) else {
+    let Some([ax, bx, ay, by]) = map else {
         return false;
     };
     if ax <= 0.0 || ay <= 0.0 {

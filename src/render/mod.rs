@@ -7,16 +7,18 @@
 //! * `sample`: bilinear where the triangle magnifies, a Catmull-Rom filter stretched over the
 //!   pixel's footprint where it minifies (from a ripmap level past 2×).
 
+mod canvas;
 mod fill;
 mod floating;
 mod resize;
 mod ripmap;
 mod sample;
 
+pub use canvas::{AreaMaps, AxisMap, CanvasMap};
 pub(crate) use fill::fill_from_surroundings;
 pub(crate) use floating::{area_marks, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
-pub use resize::resize_linear;
+pub use resize::{resize_linear, resize_mapped};
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;

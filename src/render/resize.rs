@@ -8,6 +8,7 @@
 //! samples under the filter's positive lobe, so the output never leaves its neighbourhood's
 //! colours.
 
+use super::canvas::{AxisMap, CanvasMap};
 use crate::image::{Image, ImageRef, Size};
 
 /// Catmull-Rom (B = 0, C = 1/2), support 2.
@@ -45,11 +46,28 @@ impl Axis {
         let scale = m as f32 / n as f32;
         // Shrinking widens the filter over the source samples each output sample stands for.
         let stretch = (1.0 / scale).max(1.0);
-        let support = 2.0 * stretch;
-        let mut weights = Vec::with_capacity(m * (2.0 * support).ceil() as usize + m);
+        Axis::from_centres(n, m, stretch, |i| ((i as f32 + 0.5) / scale - 0.5, stretch))
+    }
+
+    /// The taps when `n` source samples become `m` under `map` (source to output, monotone
+    /// and piecewise linear): each output sample is filtered around the source position the
+    /// map takes to it, as wide as the map shrinks there.
+    fn mapped(n: usize, m: usize, map: &AxisMap) -> Axis {
+        let widest = (1.0 / map.least_slope()).max(1.0) as f32;
+        Axis::from_centres(n, m, widest, |i| {
+            let x = map.inverse(i as f64 + 0.5);
+            ((x - 0.5) as f32, (1.0 / map.slope(x)).max(1.0) as f32)
+        })
+    }
+
+    /// The taps of `m` output samples, sample `i` centred on source position `at(i).0` with
+    /// the filter stretched by `at(i).1` (at most `widest`).
+    fn from_centres(n: usize, m: usize, widest: f32, at: impl Fn(usize) -> (f32, f32)) -> Axis {
+        let mut weights = Vec::with_capacity(m * (4.0 * widest).ceil() as usize + m);
         let taps = (0..m)
             .map(|i| {
-                let centre = (i as f32 + 0.5) / scale - 0.5;
+                let (centre, stretch) = at(i);
+                let support = 2.0 * stretch;
                 let lo = ((centre - support).floor() as i64 + 1).max(0) as usize;
                 let hi = ((centre + support).floor() as i64)
                     .min(n as i64 - 1)
@@ -218,34 +236,70 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
     }
     let (sw, sh) = (src.width() as usize, src.height() as usize);
     let (tw, th) = (target.width as usize, target.height as usize);
+    resize_axes(src, target, || Axis::new(sw, tw), || Axis::new(sh, th))
+}
+
+/// `src` resampled onto `target` by `map`, each axis on its own (a plain linear resize where
+/// both of its axes are linear).
+pub fn resize_mapped(src: ImageRef<'_>, target: Size, map: &CanvasMap) -> Image {
+    if map.x.is_linear() && map.y.is_linear() {
+        return resize_linear(src, target);
+    }
+    let (sw, sh) = (src.width() as usize, src.height() as usize);
+    let (tw, th) = (target.width as usize, target.height as usize);
+    let axis = |n: usize, m: usize, a: &AxisMap| {
+        if a.is_linear() {
+            Axis::new(n, m)
+        } else {
+            Axis::mapped(n, m, a)
+        }
+    };
+    resize_axes(
+        src,
+        target,
+        || axis(sw, tw, &map.x),
+        || axis(sh, th, &map.y),
+    )
+}
+
+/// `src` resampled onto `target` by the taps `across()` (along rows) and `down()` (along
+/// columns), built only where that axis changes.
+fn resize_axes(
+    src: ImageRef<'_>,
+    target: Size,
+    across: impl FnOnce() -> Axis,
+    down: impl FnOnce() -> Axis,
+) -> Image {
+    let (sw, sh) = (src.width() as usize, src.height() as usize);
+    let (tw, th) = (target.width as usize, target.height as usize);
     let px = src.pixels();
     let mut out = Image::new(target);
-    if th == sh {
+    let (across, down) = ((tw != sw || th == sh).then(across), (th != sh).then(down));
+    let Some(down) = down else {
         // Across only, rounded straight into the output.
-        let across = Axis::new(sw, tw).padded();
+        let across = across.expect("an axis changes").padded();
         in_bands(out.pixels_mut(), tw, |first, band| {
             across.across(px, first, band.len() / tw, |y, row| {
                 round_row(row, &mut band[y * tw..][..tw])
             })
         });
         return out;
-    }
+    };
     // Across first: sh rows of tw samples (an axis that keeps its size is copied).
     let mut mid = vec![[0f32; 4]; sh * tw];
-    if tw == sw {
-        for (o, &p) in mid.as_flattened_mut().iter_mut().zip(px.as_flattened()) {
-            *o = f32::from(p);
-        }
-    } else {
-        let across = Axis::new(sw, tw).padded();
+    if let Some(across) = across {
+        let across = across.padded();
         in_bands(&mut mid, tw, |first, band| {
             across.across(px, first, band.len() / tw, |y, row| {
                 band[y * tw..][..tw].copy_from_slice(row)
             })
         });
+    } else {
+        for (o, &p) in mid.as_flattened_mut().iter_mut().zip(px.as_flattened()) {
+            *o = f32::from(p);
+        }
     }
     // Down, a whole row of taps at a time (a column at a time strides through `mid`).
-    let down = Axis::new(sh, th);
     in_bands(out.pixels_mut(), tw, |first, band| {
         let (mut acc, mut lo, mut hi) = (
             vec![[0f32; 4]; tw],
@@ -287,6 +341,42 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_band_is_copied_and_the_rest_is_the_linear_resize_moved_by_whole_pixels() {
+        let size = Size::new(200, 20).unwrap();
+        let mut img = Image::filled(size, [255; 4]);
+        let mut v = 7u32;
+        for y in 0..20 {
+            for x in 0..200 {
+                v = v.wrapping_mul(1_103_515_245).wrapping_add(12345);
+                let g = (v >> 24) as u8;
+                img.set(x, y, [g, g / 2, 255 - g, 255]);
+            }
+        }
+        let target = Size::new(100, 20).unwrap();
+        let map = CanvasMap {
+            x: AxisMap::with_bands(200, 100, &[[10, 40]], &[[0, 10], [40, 100]]),
+            y: AxisMap::linear(20, 20),
+        };
+        let out = resize_mapped(img.as_ref(), target, &map);
+        let at = map.x.apply(10.0) as u32;
+        assert_eq!(map.x.apply(10.0), at as f64);
+        for x in 0..30 {
+            for y in 0..20 {
+                assert_eq!(out.get(at + x, y), img.get(10 + x, y), "band column {x}");
+            }
+        }
+        let linear = resize_linear(img.as_ref(), target);
+        let shift = map.x.apply(100.0) - 50.0;
+        assert_eq!(shift.fract(), 0.0);
+        for x in 52..98 {
+            let moved = (x as f64 + shift) as u32;
+            for y in 0..20 {
+                assert_eq!(out.get(moved, y), linear.get(x, y), "plot column {x}");
+            }
+        }
+    }
 
     #[test]
     fn flat_stays_flat_and_edges_do_not_ring() {

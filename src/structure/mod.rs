@@ -9,12 +9,14 @@
 //!   the warp is one affine map.
 
 mod areas;
+mod bands;
 mod lines;
 mod luma;
 mod mask;
 mod text;
 
 pub use areas::{AreaKind, DataArea};
+pub use bands::Bands;
 pub use lines::Line;
 pub use text::TextBlock;
 
@@ -31,6 +33,9 @@ pub struct Structure {
     pub text: Vec<TextBlock>,
     /// Data areas: one axis-aligned affine map each.
     pub areas: Vec<DataArea>,
+    /// The columns and rows where only text stands, kept at their size on a canvas taken
+    /// whole ([`Regions::Affine`]; empty otherwise).
+    pub bands: Bands,
 }
 
 /// Least ratio of height to width of a block of text set up the side (a y axis' title): a
@@ -171,6 +176,7 @@ impl Structure {
             vertical,
             text,
             areas,
+            bands: Bands::default(),
         }
     }
 
@@ -188,6 +194,7 @@ impl Structure {
                     s.areas.clear();
                     return s;
                 }
+                s.bands = bands::detect(image, &s.text, &s.areas);
                 s.areas = vec![DataArea {
                     x0: 1.0,
                     y0: 1.0,

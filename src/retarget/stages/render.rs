@@ -6,7 +6,7 @@ use super::{ms, Meshed, WithWarp};
 use crate::error::Error;
 use crate::image::Image;
 use crate::mesh::{Mark, Mesh};
-use crate::render::{Floating, MaskKind, Renderer};
+use crate::render::{resize_mapped, AreaMaps, CanvasMap, Floating, MaskKind, Renderer};
 use crate::retarget::frame::{Analysis, FrameStats, Retargeted, StageTimes};
 use crate::retarget::options::Options;
 use crate::retarget::reuse::Decision;
@@ -139,7 +139,10 @@ impl RenderStage {
                 // scaled mark blends its rim over what lies under it: twice is not once).
                 (p.image.clone(), true)
             }
-            _ if whole_canvas => (crate::render::resize_linear(warped.as_ref(), target), false),
+            _ if whole_canvas => {
+                let map = CanvasMap::new(mesh.structure(), mesh.size(), target);
+                (resize_mapped(warped.as_ref(), target, &map), false)
+            }
             None => {
                 let mut out = Image::new(target);
                 self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
@@ -244,14 +247,19 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
     // Marks inside data areas (at the area's one scale, where its map takes their centre),
     // then the text blocks inside areas ([`crate::render::area_text_placements`]).
     let mut in_areas: Vec<(Mark, InArea)> = Vec::new();
-    let mut maps = Vec::new();
+    let (mut maps, mut canvas) = (Vec::new(), None);
     if let Some(s) = mesh.structure().filter(|s| !s.areas.is_empty()) {
         maps = warp.area_maps(mesh);
+        canvas = (s.whole_canvas()).then(|| CanvasMap::new(Some(s), mesh.size(), warp.target()));
         in_areas = crate::render::area_marks(src, vsm, s)
             .into_iter()
             .map(|(mk, k, c)| (mk, InArea::Mark(k, c)))
             .collect();
-        let placements = crate::render::area_text_placements(src, s, &maps, warp.target());
+        let area_maps = AreaMaps {
+            areas: &maps,
+            canvas: canvas.as_ref(),
+        };
+        let placements = crate::render::area_text_placements(src, s, area_maps, warp.target());
         for (t, p) in s.text.iter().zip(placements) {
             let Some(p) = p else { continue };
             let (bw, bh) = ((t.x1 - t.x0) as f64, (t.y1 - t.y0) as f64);
@@ -301,7 +309,11 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
             // A text block's box and a pixel around it: its glyphs with their edges.
             InArea::Text(p) => return Some((p.centre, p.scale, 1, MaskKind::Whole)),
         };
-        let [ax, bx, ay, by] = (*maps.get(k)?)?;
+        let area_maps = AreaMaps {
+            areas: &maps,
+            canvas: canvas.as_ref(),
+        };
+        let [ax, bx, ay, by] = area_maps.at(k, mk.center)?;
         let (scale, rim) = ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX);
         Some((
             DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by),

@@ -1,0 +1,229 @@
+//! Text bands: the columns (rows) of a picture where nothing but text stands, such as the left
+//! margin holding a y axis' title and tick labels, or the rows of an x axis' labels under
+//! its plot. A canvas taken whole ([`super::Regions::Affine`]) keeps these at their size
+//! and gives the rest one linear map ([`crate::render::CanvasMap`]), as a chart drawn anew
+//! at the smaller size keeps its labels' type and shrinks the plot: positions and lengths
+//! inside the plot stay proportional, and the labels are not condensed.
+//!
+//! A column is clean when no pixel in it outside the text boxes differs from its left
+//! neighbour, or from the pixel two to its left, by more than [`STEP`] levels: whatever a
+//! different scale there could bend (a mark, a bar's end, a curve, a colour ramp) has such a
+//! step. Horizontal lines and fills that cross the column have none, and stay straight under
+//! any map along x. A block of text lends its columns to a band only when all of them are
+//! clean (a word is never kinked), and no band lies inside a data area found from its axes.
+
+use super::{DataArea, TextBlock};
+use crate::image::ImageRef;
+
+/// Most step between neighbouring pixels (any channel) that still counts as flat: exact for
+/// the flat fills of rendered charts, and a ramp of more than [`STEP`]/2 levels per pixel is
+/// caught by the step over two pixels.
+const STEP: u8 = 2;
+
+/// Pixels around a text block's box that are its own (the glyphs' anti-aliased rims).
+const PAD: u32 = 1;
+
+/// The text bands of a picture: half-open ranges of source columns (`x`) and rows (`y`);
+/// and its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a
+/// band (margins, the space between an axis' title and its labels), which give way first.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Bands {
+    pub x: Vec<[u32; 2]>,
+    pub y: Vec<[u32; 2]>,
+    pub gaps_x: Vec<[u32; 2]>,
+    pub gaps_y: Vec<[u32; 2]>,
+}
+
+/// The text bands of `image` with text blocks `text`, none inside `areas`.
+pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
+    let (w, h) = (image.width(), image.height());
+    if text.is_empty() || w < 3 || h < 3 {
+        return Bands::default();
+    }
+    let mut in_text = vec![false; (w * h) as usize];
+    for t in text {
+        let (x0, x1) = (t.x0.saturating_sub(PAD), (t.x1 + PAD).min(w - 1));
+        let (y0, y1) = (t.y0.saturating_sub(PAD), (t.y1 + PAD).min(h - 1));
+        for y in y0..=y1 {
+            in_text[(y * w + x0) as usize..=(y * w + x1) as usize].fill(true);
+        }
+    }
+    let px = image.pixels();
+    let differs = |a: usize, b: usize| {
+        let (p, q) = (px[a], px[b]);
+        (0..3).any(|c| p[c].abs_diff(q[c]) > STEP)
+    };
+    // steps_x[x]: a step between columns x - 1 (or x - 2) and x outside text.
+    let (mut steps_x, mut steps_y) = (vec![false; w as usize + 1], vec![false; h as usize + 1]);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            if in_text[i] {
+                continue;
+            }
+            let left = |k: u32| x >= k && !in_text[i - k as usize] && differs(i, i - k as usize);
+            if left(1) || left(2) {
+                steps_x[x as usize] = true;
+                steps_x[x as usize - 1] = true;
+            }
+            let wk = w as usize;
+            let up = |k: usize| y as usize >= k && !in_text[i - k * wk] && differs(i, i - k * wk);
+            if up(1) || up(2) {
+                steps_y[y as usize] = true;
+                steps_y[y as usize - 1] = true;
+            }
+        }
+    }
+    let inside_x = |x: u32| areas.iter().any(|a| x as f64 > a.x0 && (x as f64) < a.x1);
+    let inside_y = |y: u32| areas.iter().any(|a| y as f64 > a.y0 && (y as f64) < a.y1);
+    let clean_x = |x: u32| !steps_x[x as usize] && !steps_x[x as usize + 1] && !inside_x(x);
+    let clean_y = |y: u32| !steps_y[y as usize] && !steps_y[y as usize + 1] && !inside_y(y);
+    let x = runs(w, text.iter().map(|t| [t.x0, t.x1.min(w - 1)]), clean_x);
+    let y = runs(h, text.iter().map(|t| [t.y0, t.y1.min(h - 1)]), clean_y);
+    let text_x = covered(w, text.iter().map(|t| [t.x0, t.x1.min(w - 1)]));
+    let text_y = covered(h, text.iter().map(|t| [t.y0, t.y1.min(h - 1)]));
+    Bands {
+        gaps_x: gaps(w, &x, |i| clean_x(i) && !text_x[i as usize]),
+        gaps_y: gaps(h, &y, |i| clean_y(i) && !text_y[i as usize]),
+        x,
+        y,
+    }
+}
+
+/// Which positions below `n` a span of `spans` (inclusive) covers.
+fn covered(n: u32, spans: impl Iterator<Item = [u32; 2]>) -> Vec<bool> {
+    let mut c = vec![false; n as usize];
+    for [a, b] in spans.filter(|s| s[0] <= s[1]) {
+        c[a as usize..=b as usize].fill(true);
+    }
+    c
+}
+
+/// The maximal runs of `empty` positions below `n` that touch the canvas' edge or a band of
+/// `bands`: inside a plot without a frame, an empty strip is part of an axis' range and
+/// must keep its share of it.
+fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < n {
+        if !empty(i) {
+            i += 1;
+            continue;
+        }
+        let a = i;
+        while i < n && empty(i) {
+            i += 1;
+        }
+        let beside = |p: u32| bands.iter().any(|b| b[0] == p || b[1] == p);
+        if a == 0 || i == n || beside(a) || beside(i) {
+            out.push([a, i]);
+        }
+    }
+    out
+}
+
+/// The half-open runs of positions below `n` covered by a span of `spans` (inclusive) whose
+/// positions are all `clean`.
+fn runs(
+    n: u32,
+    spans: impl Iterator<Item = [u32; 2]>,
+    clean: impl Fn(u32) -> bool,
+) -> Vec<[u32; 2]> {
+    let mut band = vec![false; n as usize];
+    for [a, b] in spans {
+        if a <= b && (a..=b).all(&clean) {
+            band[a as usize..=b as usize].fill(true);
+        }
+    }
+    let mut out: Vec<[u32; 2]> = Vec::new();
+    for (i, &b) in band.iter().enumerate() {
+        match out.last_mut() {
+            Some(r) if b && r[1] == i as u32 => r[1] += 1,
+            _ if b => out.push([i as u32, i as u32 + 1]),
+            _ => {}
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::{Image, Size};
+
+    fn block(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {
+        TextBlock {
+            x0,
+            y0,
+            x1,
+            y1,
+            line_height: y1 - y0,
+            sideways: false,
+        }
+    }
+
+    #[test]
+    fn a_margin_of_labels_is_a_band_and_a_plot_is_not() {
+        let mut img = Image::filled(Size::new(200, 100).unwrap(), [255, 255, 255, 255]);
+        // A "label" at x 5..20 (its pixels are inside its box), a dot in the plot at x 100.
+        for y in 40..50 {
+            for x in 5..20 {
+                img.set(x, y, [0, 0, 0, 255]);
+            }
+            for x in 98..104 {
+                img.set(x, y + 20, [200, 0, 0, 255]);
+            }
+        }
+        // A horizontal axis line across the whole width: it does not stop a band along x.
+        for x in 0..200 {
+            img.set(x, 90, [0, 0, 0, 255]);
+        }
+        // A label above the dot: its column has a step (the dot), so it is no band.
+        let text = [block(5, 40, 19, 49), block(95, 10, 110, 20)];
+        let b = detect(img.as_ref(), &text, &[]);
+        assert_eq!(b.x, vec![[5, 20]]);
+        // Rows 40..50 hold the label and the dot's rows do not overlap them; rows 10..20
+        // hold the second label alone.
+        assert_eq!(b.y, vec![[10, 21], [40, 50]]);
+        // The blank columns left of the label touch the edge and the band: a gap. Those
+        // right of it, up to the dot, touch the band too.
+        assert_eq!(b.gaps_x.first(), Some(&[0, 5]));
+        assert!(
+            b.gaps_x.iter().all(|g| g[1] <= 97 || g[0] >= 104),
+            "{:?}",
+            b.gaps_x
+        );
+    }
+
+    #[test]
+    fn a_colour_ramp_under_a_label_is_no_band() {
+        let mut img = Image::filled(Size::new(120, 60).unwrap(), [255, 255, 255, 255]);
+        for x in 0..120 {
+            let v = 255 - (x * 3 / 2) as u8;
+            for y in 0..10 {
+                img.set(x, y, [v, v, 255, 255]);
+            }
+        }
+        let b = detect(img.as_ref(), &[block(40, 30, 60, 40)], &[]);
+        assert!(b.x.is_empty(), "{:?}", b.x);
+    }
+
+    #[test]
+    fn no_band_inside_a_data_area() {
+        let img = Image::filled(Size::new(100, 100).unwrap(), [255, 255, 255, 255]);
+        let area = DataArea {
+            x0: 30.0,
+            y0: 30.0,
+            x1: 90.0,
+            y1: 90.0,
+            kind: super::super::AreaKind::Axes,
+        };
+        let b = detect(
+            img.as_ref(),
+            &[block(50, 5, 60, 15), block(5, 50, 15, 60)],
+            &[area],
+        );
+        assert_eq!(b.x, vec![[5, 16]]);
+        assert_eq!(b.y, vec![[5, 16]]);
+    }
+}
