@@ -29,7 +29,7 @@ impl AxisMap {
     }
 
     /// `n` source pixels onto `m`: the half-open text `bands` at their size (or as near as
-    /// the `gaps` can make room for, down to [`LEAST_GAP_SHARE`]), everything else at the
+    /// the `gaps` can make room for, down to a quarter of their linear size), everything else at the
     /// linear resize's scale, so that what is read off a position is where a linear resize
     /// puts it; linear when the axis does not shrink or nothing can give way. A band starts
     /// on a whole output pixel (copied, not resampled between pixels) and every other stretch
