@@ -202,6 +202,14 @@ pub fn area_text_placements<'m>(
     layout.all_or_none_on_canvas(&mut scale);
     (0..text.len())
         .map(|i| {
+            // A block the map already keeps at its size (a text band of a canvas) is drawn
+            // where it stands by the resampler: floating it could only move it.
+            if layout
+                .map_of(i)
+                .is_some_and(|[ax, _, ay, _]| (ax - 1.0).abs().max((ay - 1.0).abs()) < 1e-9)
+            {
+                return None;
+            }
             let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
             let b = layout.placed(i, s, shift[i])?;
             Some(TextPlacement {
@@ -2087,6 +2095,26 @@ mod tests {
         let (img, st) = chart(&blocks, &[]);
         let p = area_text_placements(&img, &st, &[Some(HALF_WIDTH)], target);
         assert!(p.iter().all(|p| p.is_some()), "{p:?}");
+    }
+
+    /// Where the canvas' map keeps a block at its size (a text band), the resampler draws
+    /// it where it stands; floated, it could only move.
+    #[test]
+    fn a_block_the_map_keeps_at_its_size_does_not_float() {
+        let (img, st) = chart(&[[20, 40, 60, 50], [120, 40, 160, 50]], &[]);
+        let band = crate::render::CanvasMap {
+            x: crate::render::AxisMap::with_bands(200, 100, &[[20, 61]], &[[0, 20], [61, 110]]),
+            y: crate::render::AxisMap::linear(100, 100),
+        };
+        assert_eq!(band.local(DVec2::new(40.0, 45.0))[0], 1.0);
+        let areas = [Some(HALF_WIDTH)];
+        let maps = AreaMaps {
+            areas: &areas,
+            canvas: Some(&band),
+        };
+        let p = area_text_placements(&img, &st, maps, Size::new(100, 100).unwrap());
+        assert!(p[0].is_none(), "the block in the band floats: {:?}", p[0]);
+        assert!(p[1].is_some(), "the block outside it does not float");
     }
 
     #[test]

@@ -23,6 +23,13 @@ const STEP: u8 = 2;
 /// Pixels around a text block's box that are its own (the glyphs' anti-aliased rims).
 const PAD: u32 = 1;
 
+/// Blocks whose left (right, top, bottom) edges lie within this of each other are set in
+/// one column (row): a legend's labels, a y axis' tick labels.
+const ALIGNED_PX: u32 = 2;
+
+/// Most difference of line heights, as a share of the taller, of blocks of one type size.
+const SAME_SIZE: f64 = 0.25;
+
 /// The text bands of a picture: half-open ranges of source columns (`x`) and rows (`y`);
 /// and its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a
 /// band (margins, the space between an axis' title and its labels), which give way first.
@@ -78,8 +85,14 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     let inside_y = |y: u32| areas.iter().any(|a| y as f64 > a.y0 && (y as f64) < a.y1);
     let clean_x = |x: u32| !steps_x[x as usize] && !steps_x[x as usize + 1] && !inside_x(x);
     let clean_y = |y: u32| !steps_y[y as usize] && !steps_y[y as usize + 1] && !inside_y(y);
-    let x = runs(w, text.iter().map(|t| [t.x0, t.x1.min(w - 1)]), clean_x);
-    let y = runs(h, text.iter().map(|t| [t.y0, t.y1.min(h - 1)]), clean_y);
+    let xs: Vec<[u32; 2]> = text.iter().map(|t| [t.x0, t.x1.min(w - 1)]).collect();
+    let ys: Vec<[u32; 2]> = text.iter().map(|t| [t.y0, t.y1.min(h - 1)]).collect();
+    // A row of labels lends its columns all together or not at all, and a column of labels
+    // its rows: a legend with one label at its size and the next squeezed reads as two.
+    let rows = aligned(text, |t| [t.y0, t.y1]);
+    let columns = aligned(text, |t| [t.x0, t.x1]);
+    let x = runs(w, &xs, &rows, clean_x);
+    let y = runs(h, &ys, &columns, clean_y);
     let text_x = covered(w, text.iter().map(|t| [t.x0, t.x1.min(w - 1)]));
     let text_y = covered(h, text.iter().map(|t| [t.y0, t.y1.min(h - 1)]));
     Bands {
@@ -122,17 +135,63 @@ fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]
     out
 }
 
-/// The half-open runs of positions below `n` covered by a span of `spans` (inclusive) whose
-/// positions are all `clean`.
-fn runs(
-    n: u32,
-    spans: impl Iterator<Item = [u32; 2]>,
-    clean: impl Fn(u32) -> bool,
-) -> Vec<[u32; 2]> {
+/// For each block, the least index of the blocks of its type size set in one line with it
+/// (through any chain of neighbours), by `edges(t)`: both ends of its extent across that line.
+fn aligned(text: &[TextBlock], edges: impl Fn(&TextBlock) -> [u32; 2]) -> Vec<usize> {
+    let mut group: Vec<usize> = (0..text.len()).collect();
+    let same_size = |a: &TextBlock, b: &TextBlock| {
+        let (p, q) = (a.line_height as f64, b.line_height as f64);
+        (p - q).abs() <= SAME_SIZE * p.max(q)
+    };
+    for i in 0..text.len() {
+        for j in 0..i {
+            let (a, b) = (edges(&text[i]), edges(&text[j]));
+            let line = a[0].abs_diff(b[0]) <= ALIGNED_PX || a[1].abs_diff(b[1]) <= ALIGNED_PX;
+            if line && text[i].sideways == text[j].sideways && same_size(&text[i], &text[j]) {
+                let (gi, gj) = (group[i], group[j]);
+                let (keep, drop) = (gi.min(gj), gi.max(gj));
+                group
+                    .iter_mut()
+                    .filter(|g| **g == drop)
+                    .for_each(|g| *g = keep);
+            }
+        }
+    }
+    group
+}
+
+/// The half-open runs of positions below `n` covered by the inclusive `spans` of the blocks
+/// whose group (`group`, as [`aligned`]) has all its positions `clean`.
+fn runs(n: u32, spans: &[[u32; 2]], group: &[usize], clean: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
+    let all_clean = |&[a, b]: &[u32; 2]| a <= b && (a..=b).all(&clean);
     let mut band = vec![false; n as usize];
-    for [a, b] in spans {
-        if a <= b && (a..=b).all(&clean) {
-            band[a as usize..=b as usize].fill(true);
+    let lends: Vec<bool> = (0..spans.len())
+        .map(|i| (0..spans.len()).all(|j| group[j] != group[i] || all_clean(&spans[j])))
+        .collect();
+    for (&[a, b], _) in spans.iter().zip(&lends).filter(|(_, &l)| l) {
+        band[a as usize..=b as usize].fill(true);
+    }
+    // A band does not take in most of a block that lends nothing: the block would be
+    // drawn larger than its fellows (a legend's label beside a ring taken for a glyph).
+    // Such a block's run is no band (and, with it, the runs it touches). A block the band
+    // only grazes (an x axis' first label under a y axis' labels) floats or stays as it is.
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for (&[a, b], _) in spans.iter().zip(&lends).filter(|(_, &l)| !l) {
+            let inside = (a..=b).filter(|&i| band[i as usize]).count() as u32;
+            if a > b || 2 * inside <= b - a + 1 {
+                continue;
+            }
+            let (mut lo, mut hi) = (a as usize, b as usize);
+            while lo > 0 && band[lo - 1] {
+                lo -= 1;
+            }
+            while hi + 1 < band.len() && band[hi + 1] {
+                hi += 1;
+            }
+            band[lo..=hi].fill(false);
+            changed = true;
         }
     }
     let mut out: Vec<[u32; 2]> = Vec::new();
@@ -193,6 +252,35 @@ mod tests {
             "{:?}",
             b.gaps_x
         );
+    }
+
+    /// A legend: three labels set in one column at x 150, a mark in the first one's rows
+    /// (a bubble at x 40). Rows are lent by the whole column or not at all; and a lone
+    /// glyph-like ring left of the last label lends its rows alone, but a band may not take
+    /// in most of the label beside it, which lends nothing.
+    #[test]
+    fn a_column_of_labels_lends_its_rows_all_or_none() {
+        let mut img = Image::filled(Size::new(220, 120).unwrap(), [255; 4]);
+        for y in 12..24 {
+            for x in 36..48 {
+                img.set(x, y, [30, 90, 200, 255]);
+            }
+        }
+        let labels = [
+            block(150, 10, 190, 22),
+            block(150, 40, 190, 52),
+            block(150, 70, 190, 82),
+        ];
+        let b = detect(img.as_ref(), &labels, &[]);
+        assert!(b.y.is_empty(), "{:?}", b.y);
+        let mut with_ring = labels.to_vec();
+        with_ring.push(block(130, 71, 141, 82));
+        let b = detect(img.as_ref(), &with_ring, &[]);
+        assert!(b.y.iter().all(|r| r[1] <= 70 || r[0] >= 83), "{:?}", b.y);
+        // Without the mark the whole column lends its rows.
+        let clean = Image::filled(Size::new(220, 120).unwrap(), [255; 4]);
+        let b = detect(clean.as_ref(), &labels, &[]);
+        assert_eq!(b.y, vec![[10, 23], [40, 53], [70, 83]]);
     }
 
     #[test]
