@@ -3,10 +3,10 @@
 //! triangles (bilinear, box-filtered where it shrinks), it keeps a heat map's 2-px separators
 //! and small type apart, and it draws what a reader compares it with.
 //!
-//! Catmull-Rom's negative lobes overshoot at edges (a ring of lighter or darker pixels, a
-//! colour the picture does not hold): each sample is clamped to the range of the source
-//! samples under the filter's positive lobe, so the output never leaves its neighbourhood's
-//! colours.
+//! Catmull-Rom's negative lobes overshoot a little at edges, as ImageMagick's do: that
+//! overshoot is the filter's crispness. Clamping each sample to its neighbourhood's range
+//! (as this resize once did) drew every edge a shade softer than the linear resize a reader
+//! compares it with, and judged blind beside it, the softer copy lost the ties.
 
 use super::canvas::{AxisMap, CanvasMap};
 use crate::image::{Image, ImageRef, Size};
@@ -23,13 +23,11 @@ fn catmull_rom(x: f32) -> f32 {
     }
 }
 
-/// The taps of one output sample along an axis: the first source index, where its weights
-/// (summing to 1) lie in [`Axis::weights`], and the range of tap indices of the positive
-/// lobe, whose samples bound the result.
+/// The taps of one output sample along an axis: the first source index, and where its
+/// weights (summing to 1) lie in [`Axis::weights`].
 struct Taps {
     start: usize,
     weights: std::ops::Range<usize>,
-    positive: (usize, usize),
 }
 
 /// The taps of every output sample along one axis, their weights in one buffer.
@@ -83,12 +81,9 @@ impl Axis {
                     w.iter_mut().for_each(|v| *v = 0.0);
                     w[(centre.round().clamp(lo as f32, hi as f32) as usize) - lo] = 1.0;
                 }
-                let first_pos = w.iter().position(|&v| v > 0.0).unwrap_or(0);
-                let last_pos = w.iter().rposition(|&v| v > 0.0).unwrap_or(0);
                 Taps {
                     start: lo,
                     weights: first..weights.len(),
-                    positive: (first_pos, last_pos),
                 }
             })
             .collect();
@@ -114,14 +109,13 @@ impl Axis {
                 Taps {
                     start,
                     weights: first..first + k,
-                    positive: (t.positive.0 + front, t.positive.1 + front),
                 }
             })
             .collect();
         Axis { n, taps, weights }
     }
 
-    /// Sample `i` of a `row` of source samples, clamped to its positive lobe's samples.
+    /// Sample `i` of a `row` of source samples.
     #[inline(always)]
     fn filter(&self, i: usize, row: &[[f32; 4]]) -> [f32; 4] {
         let t = &self.taps[i];
@@ -133,16 +127,7 @@ impl Axis {
                 acc[c] += w * v[c];
             }
         }
-        let lobe = &src[t.positive.0..=t.positive.1];
-        let (mut lo, mut hi) = (lobe[0], lobe[0]);
-        // Selects, not `f32::min`: samples are never NaN (see `clamp`).
-        for v in &lobe[1..] {
-            for c in 0..4 {
-                lo[c] = if v[c] < lo[c] { v[c] } else { lo[c] };
-                hi[c] = if v[c] > hi[c] { v[c] } else { hi[c] };
-            }
-        }
-        clamp(acc, lo, hi)
+        acc
     }
 
     /// Resamples the rows of `px` (`n` samples each) from row `first` on into rows of this
@@ -167,14 +152,6 @@ impl Axis {
             out_row(y, &out);
         }
     }
-}
-
-/// `v` clamped to `lo..=hi` channel by channel, by selects: samples are never NaN, and
-/// `f32::clamp` asserts its bounds on every call.
-#[inline(always)]
-fn clamp(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [f32; 4] {
-    let c = |c: usize| between(v[c], lo[c], hi[c]);
-    [c(0), c(1), c(2), c(3)]
 }
 
 /// `v` clamped to `lo..=hi` by two selects (one vector instruction each), for samples that
@@ -301,38 +278,19 @@ fn resize_axes(
     }
     // Down, a whole row of taps at a time (a column at a time strides through `mid`).
     in_bands(out.pixels_mut(), tw, |first, band| {
-        let (mut acc, mut lo, mut hi) = (
-            vec![[0f32; 4]; tw],
-            vec![[0f32; 4]; tw],
-            vec![[0f32; 4]; tw],
-        );
-        let mut clamped = vec![[0f32; 4]; tw];
+        let mut acc = vec![[0f32; 4]; tw];
         for (y, orow) in band.chunks_exact_mut(tw).enumerate() {
             let t = &down.taps[first + y];
             acc.fill([0.0; 4]);
-            lo.fill([f32::MAX; 4]);
-            hi.fill([f32::MIN; 4]);
             for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
                 let j = t.start + k;
-                let row = &mid[j * tw..(j + 1) * tw];
                 // Flat loops over the row's floats: vectors, whatever the channel count.
-                let row = row.as_flattened();
+                let row = mid[j * tw..(j + 1) * tw].as_flattened();
                 for (a, &v) in acc.as_flattened_mut().iter_mut().zip(row) {
                     *a += w * v;
                 }
-                if k >= t.positive.0 && k <= t.positive.1 {
-                    let (l, h) = (lo.as_flattened_mut(), hi.as_flattened_mut());
-                    for ((l, h), &v) in l.iter_mut().zip(h.iter_mut()).zip(row) {
-                        *l = if v < *l { v } else { *l };
-                        *h = if v > *h { v } else { *h };
-                    }
-                }
             }
-            let (a, l, h) = (acc.as_flattened(), lo.as_flattened(), hi.as_flattened());
-            for (((c, &a), &l), &h) in clamped.as_flattened_mut().iter_mut().zip(a).zip(l).zip(h) {
-                *c = between(a, l, h);
-            }
-            round_row(&clamped, orow);
+            round_row(&acc, orow);
         }
     });
     out
@@ -378,8 +336,10 @@ mod tests {
         }
     }
 
+    /// Far from an edge each side keeps its colour; at the edge the filter overshoots by at
+    /// most what Catmull-Rom's lobes weigh (under a tenth of the step).
     #[test]
-    fn flat_stays_flat_and_edges_do_not_ring() {
+    fn flat_stays_flat_and_edges_overshoot_as_catmull_rom_does() {
         let size = Size::new(40, 10).unwrap();
         let mut img = Image::filled(size, [200, 200, 200, 255]);
         for y in 0..10 {
@@ -391,8 +351,8 @@ mod tests {
             let out = resize_linear(img.as_ref(), target);
             for p in out.pixels() {
                 assert!(
-                    (20..=200).contains(&p[0]),
-                    "{p:?} leaves the source's range"
+                    (20 - 18..=200 + 18).contains(&p[0]),
+                    "{p:?} overshoots more than the lobes weigh"
                 );
             }
             // Far from the edge, each side keeps its colour.
@@ -440,26 +400,21 @@ mod tests {
         }
     }
 
-    /// The resize as its formula reads, one sample at a time: the taps in order, each sum
-    /// clamped to its positive lobe's samples, the across pass kept in floats.
+    /// The resize as its formula reads, one sample at a time: the taps in order, the across
+    /// pass kept in floats.
     fn reference(src: &Image, target: Size) -> Image {
         let (sw, sh) = (src.width() as usize, src.height() as usize);
         let (tw, th) = (target.width as usize, target.height as usize);
         let one = |axis: &Axis, i: usize, at: &dyn Fn(usize) -> [f32; 4]| {
             let t = &axis.taps[i];
             let mut acc = [0f32; 4];
-            let (mut lo, mut hi) = ([f32::MAX; 4], [f32::MIN; 4]);
             for (k, &w) in axis.weights[t.weights.clone()].iter().enumerate() {
                 let v = at(t.start + k);
                 for c in 0..4 {
                     acc[c] += w * v[c];
-                    if (t.positive.0..=t.positive.1).contains(&k) {
-                        lo[c] = lo[c].min(v[c]);
-                        hi[c] = hi[c].max(v[c]);
-                    }
                 }
             }
-            std::array::from_fn(|c| acc[c].clamp(lo[c], hi[c]))
+            acc
         };
         let (across, down) = (Axis::new(sw, tw), Axis::new(sh, th));
         let px = |x: usize, y: usize| src.get(x as u32, y as u32).map(f32::from);
