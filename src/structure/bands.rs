@@ -31,14 +31,44 @@ const ALIGNED_PX: u32 = 2;
 const SAME_SIZE: f64 = 0.25;
 
 /// The text bands of a picture: half-open ranges of source columns (`x`) and rows (`y`);
-/// and its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a
-/// band (margins, the space between an axis' title and its labels), which give way first.
+/// and its gaps: runs of clean columns (rows) without text beside a band (margins, the
+/// space between an axis' title and its labels), which give way first.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Bands {
     pub x: Vec<[u32; 2]>,
     pub y: Vec<[u32; 2]>,
     pub gaps_x: Vec<[u32; 2]>,
     pub gaps_y: Vec<[u32; 2]>,
+}
+
+impl Bands {
+    /// These bands as a stream keeps them after `before`'s: what both hold, along each axis.
+    /// Bands only ever narrow, so the plot moves at most as often as a band is lost, and
+    /// never back and forth as a transient (a mark passing through a margin) comes and goes;
+    /// a stream whose layout changes ends with no bands, as a linear resize.
+    pub fn kept(&self, before: &Bands) -> Bands {
+        Bands {
+            x: common(&self.x, &before.x),
+            y: common(&self.y, &before.y),
+            gaps_x: common(&self.gaps_x, &before.gaps_x),
+            gaps_y: common(&self.gaps_y, &before.gaps_y),
+        }
+    }
+}
+
+/// The half-open ranges both `a` and `b` cover (each sorted, not overlapping).
+fn common(a: &[[u32; 2]], b: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    let mut out = Vec::new();
+    for p in a {
+        for q in b {
+            let (lo, hi) = (p[0].max(q[0]), p[1].min(q[1]));
+            if lo < hi {
+                out.push([lo, hi]);
+            }
+        }
+    }
+    out.sort();
+    out
 }
 
 /// The text bands of `image` with text blocks `text`, none inside `areas`.
@@ -112,9 +142,10 @@ fn covered(n: u32, spans: impl Iterator<Item = [u32; 2]>) -> Vec<bool> {
     c
 }
 
-/// The maximal runs of `empty` positions below `n` that touch the canvas' edge or a band of
-/// `bands`: inside a plot without a frame, an empty strip is part of an axis' range and
-/// must keep its share of it.
+/// The maximal runs of `empty` positions below `n` beside a band of `bands`: the margin
+/// between a label and the canvas' edge, between an axis' title and its labels. An empty
+/// run that touches no band (the room right of a bar chart's bars, an empty strip inside a
+/// plot without a frame) is part of an axis' range, and keeps its share of it.
 fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
     let mut out = Vec::new();
     let mut i = 0;
@@ -128,7 +159,7 @@ fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]
             i += 1;
         }
         let beside = |p: u32| bands.iter().any(|b| b[0] == p || b[1] == p);
-        if a == 0 || i == n || beside(a) || beside(i) {
+        if beside(a) || beside(i) {
             out.push([a, i]);
         }
     }
@@ -281,6 +312,33 @@ mod tests {
         let clean = Image::filled(Size::new(220, 120).unwrap(), [255; 4]);
         let b = detect(clean.as_ref(), &labels, &[]);
         assert_eq!(b.y, vec![[10, 23], [40, 53], [70, 83]]);
+    }
+
+    /// In a stream, bands only narrow: a band lost in one frame does not come back, so the
+    /// plot never moves back and forth.
+    #[test]
+    fn a_streams_bands_only_narrow() {
+        let first = Bands {
+            x: vec![[10, 40]],
+            y: vec![[0, 20], [300, 320]],
+            gaps_x: vec![[0, 10]],
+            gaps_y: vec![[20, 30]],
+        };
+        let transient = Bands {
+            x: vec![[10, 40]],
+            y: vec![[0, 20]],
+            gaps_x: vec![[0, 10]],
+            gaps_y: vec![[20, 30]],
+        };
+        let kept = transient.kept(&first);
+        assert_eq!(kept.y, vec![[0, 20]]);
+        let again = first.kept(&kept);
+        assert_eq!(again, kept, "the lost band stays lost");
+        let narrower = Bands {
+            x: vec![[12, 50]],
+            ..first.clone()
+        };
+        assert_eq!(narrower.kept(&again).x, vec![[12, 40]]);
     }
 
     #[test]

@@ -7,7 +7,7 @@ use crate::image::Image;
 use crate::mesh::{IncrementalMesh, Mark, Mesh, MeshOptions};
 use crate::retarget::reuse::{decide, Built, Decision, Incoming, Plan, ReuseOptions};
 use crate::saliency::Vsm;
-use crate::structure::Structure;
+use crate::structure::{Bands, Structure};
 use crate::tiles::TileMask;
 use crate::vector::Binding;
 use glam::DVec2;
@@ -26,6 +26,9 @@ pub(crate) struct MeshStage {
     next_id: u64,
     /// Scratch of the reuse decision.
     scratch: Vec<bool>,
+    /// The text bands of the last canvas taken whole: a stream keeps what stays of them
+    /// ([`Bands::kept`]), so that its plot does not move while the layout stands.
+    bands: Option<Bands>,
 }
 
 /// What the mesh stage hands on.
@@ -48,6 +51,7 @@ impl MeshStage {
             built: None,
             next_id: 0,
             scratch: Vec::new(),
+            bands: None,
         }
     }
 
@@ -119,9 +123,15 @@ impl MeshStage {
     /// A mesh built afresh for `vsm` (and, with structure on, the lines and text of `image`).
     fn build(&mut self, vsm: &Arc<Vsm>, image: &Image, bind: &Binding) -> Built {
         let (points, rings) = (&bind.points, &bind.rings);
-        let structure = self
+        let mut structure = self
             .structure
             .then(|| Structure::detect_with(image.as_ref(), self.options.regions));
+        if let Some(s) = structure.as_mut().filter(|s| s.whole_canvas()) {
+            if let Some(before) = &self.bands {
+                s.bands = s.bands.kept(before);
+            }
+            self.bands = Some(s.bands.clone());
+        }
         let (inc, mesh) = match structure {
             Some(s) if s.whole_canvas() && points.is_empty() && rings.is_empty() => {
                 IncrementalMesh::canvas(vsm.size(), &s, self.next_id)
