@@ -103,8 +103,8 @@ const MIN_CANVAS_AREA_PX: f64 = 8.0;
 pub enum Regions {
     /// Data areas where axes, frames, grids or bars show them; the free warp elsewhere.
     Auto,
-    /// The whole canvas is one data area: a linear resize, text on a flat ground kept at its
-    /// size where it has room. The default: judged blind on real charts, readers preferred it
+    /// The whole canvas is one data area: a linear resize but for its text bands (kept at
+    /// their size, see [`Bands`]), text on a flat ground kept at its size where it has room. The default: judged blind on real charts, readers preferred it
     /// to the modes that bend (a chart that lies is worse than a squashed one).
     #[default]
     Affine,
