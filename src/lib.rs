@@ -90,5 +90,5 @@ pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
 pub use size::InvalidSize;
 pub use solve::{EnergyParams, Locator, SolveStats, Solver, Warp};
 pub use stream::{FrameSink, FrameSource, Pipeline, Repeat, RunSummary};
-pub use structure::{AreaKind, DataArea, Line, Regions, Structure, TextBlock};
+pub use structure::{AreaKind, Bands, DataArea, Line, Regions, Structure, TextBlock};
 pub use vector::{MarkSize, VectorLayer, VectorOptions};
