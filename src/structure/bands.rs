@@ -31,8 +31,8 @@ const ALIGNED_PX: u32 = 2;
 const SAME_SIZE: f64 = 0.25;
 
 /// The text bands of a picture: half-open ranges of source columns (`x`) and rows (`y`);
-/// and its gaps: runs of clean columns (rows) without text beside a band (margins, the
-/// space between an axis' title and its labels), which give way first.
+/// and its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a
+/// band (margins, the space between an axis' title and its labels), which give way first.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Bands {
     pub x: Vec<[u32; 2]>,
@@ -142,10 +142,10 @@ fn covered(n: u32, spans: impl Iterator<Item = [u32; 2]>) -> Vec<bool> {
     c
 }
 
-/// The maximal runs of `empty` positions below `n` beside a band of `bands`: the margin
-/// between a label and the canvas' edge, between an axis' title and its labels. An empty
-/// run that touches no band (the room right of a bar chart's bars, an empty strip inside a
-/// plot without a frame) is part of an axis' range, and keeps its share of it.
+/// The maximal runs of `empty` positions below `n` that touch the canvas' edge or a band of
+/// `bands`: the margins, the space between an axis' title and its labels. An empty strip
+/// inside a plot without a frame touches neither; it is part of an axis' range and keeps
+/// its share of it.
 fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
     let mut out = Vec::new();
     let mut i = 0;
@@ -159,7 +159,7 @@ fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]
             i += 1;
         }
         let beside = |p: u32| bands.iter().any(|b| b[0] == p || b[1] == p);
-        if beside(a) || beside(i) {
+        if a == 0 || i == n || beside(a) || beside(i) {
             out.push([a, i]);
         }
     }
