@@ -53,6 +53,12 @@ impl AxisMap {
             .collect();
         spans.sort_by_key(|s| s.0[0]);
         let knots = |snap: bool| {
+            // Where a stretch at the linear scale starts: snapped, a whole number of pixels
+            // from where the linear resize puts it.
+            let in_phase = |pos: f64, out: f64| match snap {
+                true => pos * linear + (out - pos * linear).round(),
+                false => out,
+            };
             let mut knots = vec![[0.0, 0.0]];
             let (mut pos, mut out) = (0.0, 0.0);
             let push = |knots: &mut Vec<[f64; 2]>, x: f64, o: f64| {
@@ -64,11 +70,7 @@ impl AxisMap {
                 let (a, e) = (a as f64, e as f64);
                 if a > pos {
                     // The stretch before at the linear scale, in the linear resize's phase.
-                    out = if snap {
-                        pos * linear + (out - pos * linear).round()
-                    } else {
-                        out
-                    };
+                    out = in_phase(pos, out);
                     push(&mut knots, pos, out);
                     out += (a - pos) * linear;
                 }
@@ -80,11 +82,7 @@ impl AxisMap {
                 pos = e;
             }
             if nf > pos {
-                out = if snap {
-                    pos * linear + (out - pos * linear).round()
-                } else {
-                    out
-                };
+                out = in_phase(pos, out);
                 push(&mut knots, pos, out);
             }
             if knots.last().is_some_and(|k| k[0] >= nf) {

@@ -1779,14 +1779,7 @@ mod tests {
         let st = Structure {
             text: blocks
                 .iter()
-                .map(|&[x0, y0, x1, y1]| TextBlock {
-                    x0,
-                    y0,
-                    x1,
-                    y1,
-                    line_height: y1 - y0,
-                    sideways: false,
-                })
+                .map(|&[x0, y0, x1, y1]| TextBlock::upright(x0, y0, x1, y1))
                 .collect(),
             areas: vec![DataArea {
                 x0: 1.0,

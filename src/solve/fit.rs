@@ -577,14 +577,7 @@ mod tests {
     }
 
     fn block(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {
-        TextBlock {
-            x0,
-            y0,
-            x1,
-            y1,
-            line_height: y1 - y0,
-            sideways: false,
-        }
+        TextBlock::upright(x0, y0, x1, y1)
     }
 
     /// Two panels side by side: a vertical line between them keeps one x for its whole

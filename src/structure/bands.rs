@@ -242,14 +242,7 @@ mod tests {
     use crate::image::{Image, Size};
 
     fn block(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {
-        TextBlock {
-            x0,
-            y0,
-            x1,
-            y1,
-            line_height: y1 - y0,
-            sideways: false,
-        }
+        TextBlock::upright(x0, y0, x1, y1)
     }
 
     #[test]

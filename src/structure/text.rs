@@ -52,6 +52,21 @@ pub struct TextBlock {
     pub sideways: bool,
 }
 
+#[cfg(test)]
+impl TextBlock {
+    /// An upright block of one line filling its box: what tests set down as a label.
+    pub(crate) fn upright(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {
+        TextBlock {
+            x0,
+            y0,
+            x1,
+            y1,
+            line_height: y1 - y0,
+            sideways: false,
+        }
+    }
+}
+
 #[derive(Copy, Clone, Debug)]
 struct Comp {
     x0: u32,
