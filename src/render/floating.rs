@@ -16,6 +16,7 @@ use crate::image::{Image, Size};
 use crate::mesh::Mark;
 use crate::saliency::Vsm;
 use crate::structure::TextBlock;
+use crate::structure::ALIGNED_PX;
 use glam::{DVec2, DVec3};
 
 /// Importance from which a pixel near a mark is part of it (the blob itself is found at 0.5;
@@ -154,9 +155,6 @@ const FLAT_GROUND: f64 = 0.9;
 const CANNOT_FLOAT: f64 = 0.0;
 /// Least gap between two floating text blocks, output pixels.
 const TEXT_GAP_PX: f64 = 2.0;
-/// Blocks whose left (right) edges lie within this of each other are one left-aligned
-/// (right-aligned) column: a legend's labels, a y axis' tick labels.
-const ALIGNED_PX: u32 = 2;
 /// How far a block read alone (a title, an axis title) may step aside from where the map
 /// puts it, in its own line heights: a label moved further than its own size detaches from
 /// what it names.
@@ -512,7 +510,7 @@ fn anchor(src: &Image, text: &[TextBlock], ground: [u8; 3], i: usize) -> f64 {
             .filter(|&(j, o)| {
                 j != i
                     && !o.sideways
-                    && same_type_size(o, t)
+                    && o.same_type_size(t)
                     && edge(o).abs_diff(edge(t)) <= ALIGNED_PX
                     && (o.y0 >= t.y1 || o.y1 <= t.y0)
             })
@@ -552,15 +550,6 @@ fn ground_run(src: &Image, t: &TextBlock, ground: [u8; 3], dir: i64) -> usize {
             same_colour([p[0], p[1], p[2]], ground)
         })
         .count()
-}
-
-/// Line heights this close (as a share of the larger) are one size of type.
-const SAME_TYPE_SIZE: f64 = 0.25;
-
-/// Whether blocks `a` and `b` are set in one size of type ([`SAME_TYPE_SIZE`]).
-fn same_type_size(a: &TextBlock, b: &TextBlock) -> bool {
-    let (ha, hb) = (a.line_height as f64, b.line_height as f64);
-    (ha - hb).abs() <= SAME_TYPE_SIZE * ha.max(hb)
 }
 
 /// Labels read together keep one size: the blocks of one aligned column (a legend, a y axis'
@@ -637,7 +626,7 @@ fn type_groups(
             {
                 continue;
             }
-            if !same_type_size(a, b) {
+            if !a.same_type_size(b) {
                 continue;
             }
             let (ha, hb) = (a.line_height as f64, b.line_height as f64);

@@ -12,6 +12,7 @@
 //! any map along x. A block of text lends its columns to a band only when all of them are
 //! clean (a word is never kinked), and no band lies inside a data area found from its axes.
 
+use super::text::ALIGNED_PX;
 use super::{DataArea, TextBlock};
 use crate::image::ImageRef;
 
@@ -22,13 +23,6 @@ const STEP: u8 = 2;
 
 /// Pixels around a text block's box that are its own (the glyphs' anti-aliased rims).
 const PAD: u32 = 1;
-
-/// Blocks whose left (right, top, bottom) edges lie within this of each other are set in
-/// one column (row): a legend's labels, a y axis' tick labels.
-const ALIGNED_PX: u32 = 2;
-
-/// Most difference of line heights, as a share of the taller, of blocks of one type size.
-const SAME_SIZE: f64 = 0.25;
 
 /// The text bands of a picture: half-open ranges of source columns (`x`) and rows (`y`);
 /// and its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a
@@ -81,6 +75,9 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     for t in text {
         let (x0, x1) = (t.x0.saturating_sub(PAD), (t.x1 + PAD).min(w - 1));
         let (y0, y1) = (t.y0.saturating_sub(PAD), (t.y1 + PAD).min(h - 1));
+        if x0 > x1 {
+            continue;
+        }
         for y in y0..=y1 {
             in_text[(y * w + x0) as usize..=(y * w + x1) as usize].fill(true);
         }
@@ -123,8 +120,7 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     let columns = aligned(text, |t| [t.x0, t.x1]);
     let x = runs(w, &xs, &rows, clean_x);
     let y = runs(h, &ys, &columns, clean_y);
-    let text_x = covered(w, text.iter().map(|t| [t.x0, t.x1.min(w - 1)]));
-    let text_y = covered(h, text.iter().map(|t| [t.y0, t.y1.min(h - 1)]));
+    let (text_x, text_y) = (covered(w, &xs), covered(h, &ys));
     Bands {
         gaps_x: gaps(w, &x, |i| clean_x(i) && !text_x[i as usize]),
         gaps_y: gaps(h, &y, |i| clean_y(i) && !text_y[i as usize]),
@@ -134,9 +130,9 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
 }
 
 /// Which positions below `n` a span of `spans` (inclusive) covers.
-fn covered(n: u32, spans: impl Iterator<Item = [u32; 2]>) -> Vec<bool> {
+fn covered(n: u32, spans: &[[u32; 2]]) -> Vec<bool> {
     let mut c = vec![false; n as usize];
-    for [a, b] in spans.filter(|s| s[0] <= s[1]) {
+    for &[a, b] in spans.iter().filter(|s| s[0] <= s[1]) {
         c[a as usize..=b as usize].fill(true);
     }
     c
@@ -170,15 +166,11 @@ fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]
 /// (through any chain of neighbours), by `edges(t)`: both ends of its extent across that line.
 fn aligned(text: &[TextBlock], edges: impl Fn(&TextBlock) -> [u32; 2]) -> Vec<usize> {
     let mut group: Vec<usize> = (0..text.len()).collect();
-    let same_size = |a: &TextBlock, b: &TextBlock| {
-        let (p, q) = (a.line_height as f64, b.line_height as f64);
-        (p - q).abs() <= SAME_SIZE * p.max(q)
-    };
     for i in 0..text.len() {
         for j in 0..i {
             let (a, b) = (edges(&text[i]), edges(&text[j]));
             let line = a[0].abs_diff(b[0]) <= ALIGNED_PX || a[1].abs_diff(b[1]) <= ALIGNED_PX;
-            if line && text[i].sideways == text[j].sideways && same_size(&text[i], &text[j]) {
+            if line && text[i].sideways == text[j].sideways && text[i].same_type_size(&text[j]) {
                 let (gi, gj) = (group[i], group[j]);
                 let (keep, drop) = (gi.min(gj), gi.max(gj));
                 group

@@ -19,6 +19,7 @@ pub use areas::{AreaKind, DataArea};
 pub use bands::Bands;
 pub use lines::Line;
 pub use text::TextBlock;
+pub(crate) use text::ALIGNED_PX;
 
 use crate::image::ImageRef;
 

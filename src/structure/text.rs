@@ -52,6 +52,21 @@ pub struct TextBlock {
     pub sideways: bool,
 }
 
+/// Blocks whose left (right, top, bottom) edges lie within this of each other are set in one
+/// column (row): a legend's labels, a y axis' tick labels.
+pub(crate) const ALIGNED_PX: u32 = 2;
+
+/// Line heights this close (as a share of the larger) are one size of type.
+const SAME_TYPE_SIZE: f64 = 0.25;
+
+impl TextBlock {
+    /// Whether this block and `other` are set in one size of type ([`SAME_TYPE_SIZE`]).
+    pub fn same_type_size(&self, other: &TextBlock) -> bool {
+        let (ha, hb) = (self.line_height as f64, other.line_height as f64);
+        (ha - hb).abs() <= SAME_TYPE_SIZE * ha.max(hb)
+    }
+}
+
 #[cfg(test)]
 impl TextBlock {
     /// An upright block of one line filling its box: what tests set down as a label.
