@@ -60,7 +60,8 @@ pub(crate) const ALIGNED_PX: u32 = 2;
 const SAME_TYPE_SIZE: f64 = 0.25;
 
 impl TextBlock {
-    /// Whether this block and `other` are set in one size of type ([`SAME_TYPE_SIZE`]).
+    /// Whether this block and `other` are set in one size of type: line heights within a
+    /// quarter of the larger.
     pub fn same_type_size(&self, other: &TextBlock) -> bool {
         let (ha, hb) = (self.line_height as f64, other.line_height as f64);
         (ha - hb).abs() <= SAME_TYPE_SIZE * ha.max(hb)
