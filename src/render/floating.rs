@@ -965,25 +965,33 @@ impl MarkScan<'_> {
                 first_pale = out.len();
             }
             let ([c0, r0, c1, r1], gw) = (cells.window, self.gw);
-            for (r, c) in (r0..r1).flat_map(|r| (c0..c1).map(move |c| (r, c))) {
-                let start = r * gw + c;
-                if self.seen[start] || self.imp[start] < least {
-                    continue;
-                }
-                // One colour: a line chart's markers stand apart from the line through them.
-                let colour = cell_colour(self.src, s, c, r);
-                if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
-                    continue;
-                }
-                if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
-                    strong.push(colour);
-                }
-                match self.blob_at(start, least, colour, &cells) {
-                    BlobKind::Mark(m) => out.push((m, k, colour)),
-                    BlobKind::Spoils if cells.whole_canvas => {
-                        spoiled[pass_pale as usize].push(colour)
+            for r in r0..r1 {
+                let (row, end) = (r * gw, r * gw + c1.max(c0));
+                let mut next = row + c0;
+                // The next cell in no blob yet and important enough, by a scan of the row's
+                // slices: most cells fail this test, so it is most of the search.
+                while let Some(skip) = (self.seen[next..end].iter())
+                    .zip(&self.imp[next..end])
+                    .position(|(&seen, &v)| !seen && v >= least)
+                {
+                    let start = next + skip;
+                    next = start + 1;
+                    // One colour: a line chart's markers stand apart from the line through
+                    // them.
+                    let colour = cell_colour(self.src, s, start - row, r);
+                    if pass_pale && strong.iter().any(|&k| same_colour(k, colour)) {
+                        continue;
                     }
-                    BlobKind::Spoils | BlobKind::Mute => {}
+                    if !pass_pale && !strong.iter().any(|&k| same_colour(k, colour)) {
+                        strong.push(colour);
+                    }
+                    match self.blob_at(start, least, colour, &cells) {
+                        BlobKind::Mark(m) => out.push((m, k, colour)),
+                        BlobKind::Spoils if cells.whole_canvas => {
+                            spoiled[pass_pale as usize].push(colour)
+                        }
+                        BlobKind::Spoils | BlobKind::Mute => {}
+                    }
                 }
             }
         }
@@ -1103,18 +1111,22 @@ fn same_colour(a: [u8; 3], b: [u8; 3]) -> bool {
 /// The median importance of the cells `[c0, c1) × [r0, r1)` of a map `gw` cells wide (to a
 /// 256th), 0 for no cells.
 fn median_importance(imp: &[f32], gw: usize, [c0, r0, c1, r1]: [usize; 4]) -> f32 {
-    let mut hist = [0u32; 256];
+    // Four histograms, filled in turn: a run of equal values (a flat ground) then adds to
+    // four counters instead of waiting on one.
+    let mut hist = [[0u32; 256]; 4];
     let mut n = 0u32;
     for r in r0..r1 {
-        for &v in &imp[r * gw + c0..r * gw + c1.max(c0)] {
+        let row = &imp[r * gw + c0..r * gw + c1.max(c0)];
+        for (j, &v) in row.iter().enumerate() {
             // Selects, not `clamp` (which checks its bounds every call); NaN is 0 either way.
             let v = if v > 0.0 { v } else { 0.0 };
-            hist[(if v < 1.0 { v } else { 1.0 } * 255.0) as usize] += 1;
-            n += 1;
+            hist[j & 3][(if v < 1.0 { v } else { 1.0 } * 255.0) as usize] += 1;
         }
+        n += row.len() as u32;
     }
     let mut below = 0;
-    for (i, &k) in hist.iter().enumerate() {
+    for i in 0..256 {
+        let k = hist[0][i] + hist[1][i] + hist[2][i] + hist[3][i];
         below += k;
         if 2 * below > n {
             return i as f32 / 255.0;
