@@ -54,7 +54,7 @@ pub struct VsmNorm {
 /// frames above `FULL_RESOLUTION_MAX_PX`): the mesh it guides has key points 10 px apart or
 /// more, and a 6-px dot is still 3 cells, while the saliency passes and everything that reads
 /// the map cost a quarter.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Vsm {
     size: Size,
     grid: Size,
@@ -65,7 +65,46 @@ pub struct Vsm {
     norm: Option<Box<VsmNorm>>,
 }
 
+impl Clone for Vsm {
+    fn clone(&self) -> Vsm {
+        Vsm {
+            size: self.size,
+            grid: self.grid,
+            scale: self.scale,
+            values: self.values.clone(),
+            importance: self.importance.clone(),
+            edges: self.edges.clone(),
+            norm: self.norm.clone(),
+        }
+    }
+
+    /// Into the planes `self` has: a stream's maps are recycled, and a fresh megabyte-sized
+    /// plane costs its page faults every frame.
+    fn clone_from(&mut self, other: &Vsm) {
+        self.size = other.size;
+        self.grid = other.grid;
+        self.scale = other.scale;
+        self.values.clone_from(&other.values);
+        self.importance.clone_from(&other.importance);
+        self.edges.clone_from(&other.edges);
+        self.norm.clone_from(&other.norm);
+    }
+}
+
 impl Vsm {
+    /// A map of `size` with no planes yet, for [`VsmBuilder::build_into`].
+    pub(crate) fn empty(size: Size) -> Vsm {
+        Vsm {
+            size,
+            grid: size,
+            scale: 1,
+            values: Vec::new(),
+            importance: Vec::new(),
+            edges: Vec::new(),
+            norm: None,
+        }
+    }
+
     /// The image (canvas) size the map covers.
     pub fn size(&self) -> Size {
         self.size
@@ -207,6 +246,8 @@ pub struct VsmBuilder {
     tmp: Vec<f32>,
     dilated: Vec<f32>,
     crop: Vec<[u8; 4]>,
+    /// A region's values, importance and edges ([`VsmBuilder::update_region`]).
+    region: [Vec<f32>; 3],
     lab_only: bool,
     full_resolution: bool,
 }
@@ -244,15 +285,7 @@ impl VsmBuilder {
 
     /// The VSM of `image`. Deterministic: the same pixels give the same map.
     pub fn build(&mut self, image: ImageRef<'_>) -> Vsm {
-        let mut vsm = Vsm {
-            size: image.size(),
-            grid: image.size(),
-            scale: 1,
-            values: Vec::new(),
-            importance: Vec::new(),
-            edges: Vec::new(),
-            norm: None,
-        };
+        let mut vsm = Vsm::empty(image.size());
         self.build_into(image, &mut vsm);
         vsm
     }
@@ -328,7 +361,7 @@ impl VsmBuilder {
             height: oh as u32,
         };
         let cref = ImageRef::new(csize, &crop).expect("crop size");
-        let (mut v, mut i, mut e) = (Vec::new(), Vec::new(), Vec::new());
+        let [mut v, mut i, mut e] = std::mem::take(&mut self.region);
         for p in [&mut v, &mut i, &mut e] {
             p.resize(ow * oh, 0.0);
         }
@@ -344,6 +377,7 @@ impl VsmBuilder {
             vsm.edges[d0..d1].copy_from_slice(&e[cy * ow + cx0..cy * ow + cx1]);
         }
         self.crop = crop;
+        self.region = [v, i, e];
     }
 
     /// The whole computation on `image` into the three planes (already sized); with `norm`
@@ -430,47 +464,56 @@ fn downsample(image: ImageRef<'_>, cells: Rect, scale: u32, out: &mut Vec<[u8; 4
         return;
     }
     if scale == 2 {
-        // The common case, two rows at a time with 16-bit lanes (SWAR) for opaque quads.
+        // The common case, two rows at a time with 16-bit lanes (SWAR) for opaque quads,
+        // into a buffer sized first; the cells whose pixels all lie inside the image (all
+        // but a last column or row of an odd side) need no clamping.
         #[inline(always)]
         fn spread(p: [u8; 4]) -> u64 {
             let x = u32::from_le_bytes(p) as u64;
             (x & 0xFF) | (x & 0xFF00) << 8 | (x & 0xFF_0000) << 16
         }
-        for cy in cells.y0..cells.y1 {
+        #[inline(always)]
+        fn mean(q: [[u8; 4]; 4]) -> [u8; 4] {
+            if q.iter().all(|p| p[3] == 255) {
+                let sum =
+                    spread(q[0]) + spread(q[1]) + spread(q[2]) + spread(q[3]) + 0x0002_0002_0002;
+                let m = sum >> 2;
+                [
+                    (m & 0xFF) as u8,
+                    (m >> 16 & 0xFF) as u8,
+                    (m >> 32 & 0xFF) as u8,
+                    255,
+                ]
+            } else {
+                let mut sum = [0u32; 3];
+                for p in q {
+                    let a = p[3] as u32;
+                    for k in 0..3 {
+                        sum[k] += (p[k] as u32 * a + 255 * (255 - a) + 127) / 255;
+                    }
+                }
+                let c = sum.map(|v| ((v + 2) / 4) as u8);
+                [c[0], c[1], c[2], 255]
+            }
+        }
+        let (cw, w) = ((cells.x1 - cells.x0) as usize, w as usize);
+        out.resize(cw * (cells.y1 - cells.y0) as usize, [0; 4]);
+        // Cells `x0..inner` have both their columns inside the image.
+        let inner = (cells.x1 as usize).min(w / 2).max(cells.x0 as usize);
+        for (cy, orow) in (cells.y0..cells.y1).zip(out.chunks_exact_mut(cw.max(1))) {
             let ya = (2 * cy).min(h - 1) as usize;
             let yb = (2 * cy + 1).min(h - 1) as usize;
-            let (ra, rb) = (
-                &px[ya * w as usize..][..w as usize],
-                &px[yb * w as usize..][..w as usize],
-            );
-            for cx in cells.x0..cells.x1 {
-                let xa = (2 * cx).min(w - 1) as usize;
-                let xb = (2 * cx + 1).min(w - 1) as usize;
-                let q = [ra[xa], ra[xb], rb[xa], rb[xb]];
-                if q.iter().all(|p| p[3] == 255) {
-                    let sum = spread(q[0])
-                        + spread(q[1])
-                        + spread(q[2])
-                        + spread(q[3])
-                        + 0x0002_0002_0002;
-                    let m = sum >> 2;
-                    out.push([
-                        (m & 0xFF) as u8,
-                        (m >> 16 & 0xFF) as u8,
-                        (m >> 32 & 0xFF) as u8,
-                        255,
-                    ]);
-                } else {
-                    let mut sum = [0u32; 3];
-                    for p in q {
-                        let a = p[3] as u32;
-                        for k in 0..3 {
-                            sum[k] += (p[k] as u32 * a + 255 * (255 - a) + 127) / 255;
-                        }
-                    }
-                    let c = sum.map(|v| ((v + 2) / 4) as u8);
-                    out.push([c[0], c[1], c[2], 255]);
-                }
+            let (ra, rb) = (&px[ya * w..][..w], &px[yb * w..][..w]);
+            let x0 = cells.x0 as usize;
+            let pairs =
+                (ra[2 * x0..2 * inner].chunks_exact(2)).zip(rb[2 * x0..2 * inner].chunks_exact(2));
+            for (o, (a, b)) in orow.iter_mut().zip(pairs) {
+                *o = mean([a[0], a[1], b[0], b[1]]);
+            }
+            for (o, cx) in orow[inner - x0..].iter_mut().zip(inner..cells.x1 as usize) {
+                let xa = (2 * cx).min(w - 1);
+                let xb = (2 * cx + 1).min(w - 1);
+                *o = mean([ra[xa], ra[xb], rb[xa], rb[xb]]);
             }
         }
         return;

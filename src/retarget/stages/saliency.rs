@@ -2,7 +2,7 @@
 
 use super::{ms, WithVsm};
 use crate::error::Error;
-use crate::image::Image;
+use crate::image::{Image, Size};
 use crate::retarget::frame::{Frame, StageTimes};
 use crate::retarget::options::Options;
 use crate::retarget::reuse::ReuseOptions;
@@ -26,7 +26,14 @@ pub(crate) struct SaliencyStage {
     vector: VectorOptions,
     /// The VSM raised under vector marks (§5.3).
     raised: RaisedVsm,
+    /// Maps of earlier frames, whose planes a new map reuses once the later stages have
+    /// dropped them.
+    spare: Vec<Arc<Vsm>>,
 }
+
+/// Earlier maps kept for their planes: the later stages hold a frame's map for a frame or
+/// two (the mesh stage keeps the last one it meshed).
+const SPARE_MAPS: usize = 4;
 
 /// What the saliency stage hands on.
 pub(crate) struct Saliency {
@@ -47,7 +54,25 @@ impl SaliencyStage {
             marks: options.marks.clone(),
             vector: options.vector.clone(),
             raised: RaisedVsm::default(),
+            spare: Vec::new(),
         }
+    }
+
+    /// A map whose planes no later stage holds any more (empty if none is free yet).
+    fn recycled(&mut self, size: Size) -> Vsm {
+        let mut held = Vec::new();
+        let mut free = None;
+        while let Some(a) = self.spare.pop() {
+            match Arc::try_unwrap(a) {
+                Ok(v) => {
+                    free = Some(v);
+                    break;
+                }
+                Err(a) => held.push(a),
+            }
+        }
+        self.spare.extend(held.into_iter().rev());
+        free.unwrap_or_else(|| Vsm::empty(size))
     }
 
     /// The frame's saliency: of the whole visualization when it has vector marks (drawn into
@@ -75,7 +100,9 @@ impl SaliencyStage {
             && self.prev.as_ref().is_some_and(|p| p.size() == size)
             && self.vsm.is_some();
         let out = if !same {
-            let vsm = Arc::new(self.builder.build(image.as_ref()));
+            let mut vsm = self.recycled(size);
+            self.builder.build_into(image.as_ref(), &mut vsm);
+            let vsm = Arc::new(vsm);
             let mut dirty = TileMask::new(size, self.reuse.tile_px);
             for r in 0..dirty.rows() {
                 for c in 0..dirty.cols() {
@@ -90,13 +117,16 @@ impl SaliencyStage {
         } else {
             let prev = self.prev.as_ref().expect("checked");
             let dirty = changed_tiles(prev, image, self.reuse.tile_px);
-            let current = self.vsm.as_ref().expect("checked");
+            let current = self.vsm.clone().expect("checked");
             let vsm = if dirty.is_empty() {
                 current.clone()
             } else if dirty.fraction() > FULL_VSM_FRACTION {
-                Arc::new(self.builder.build(image.as_ref()))
+                let mut v = self.recycled(size);
+                self.builder.build_into(image.as_ref(), &mut v);
+                Arc::new(v)
             } else {
-                let mut v = (**current).clone();
+                let mut v = self.recycled(size);
+                v.clone_from(&current);
                 for [x0, y0, x1, y1] in dirty.rects(size) {
                     self.builder
                         .update_region(image.as_ref(), &mut v, Rect { x0, y0, x1, y1 });
@@ -109,7 +139,14 @@ impl SaliencyStage {
                 fresh: false,
             }
         };
-        self.vsm = Some(out.vsm.clone());
+        if let Some(old) = self.vsm.replace(out.vsm.clone()) {
+            if !Arc::ptr_eq(&old, &out.vsm) {
+                if self.spare.len() == SPARE_MAPS {
+                    self.spare.remove(0);
+                }
+                self.spare.push(old);
+            }
+        }
         match &mut self.prev {
             Some(p) if p.size() == size => p.pixels_mut().copy_from_slice(image.pixels()),
             p => *p = Some(image.clone()),
