@@ -158,10 +158,19 @@ impl RenderStage {
             floating.paste(src, &mut out);
         }
         self.floated = floating.len();
+        // The copy goes into the last output's buffer where it fits: a fresh one would cost
+        // its page faults every frame.
+        let image = match self.prev.take() {
+            Some(Previous { mut image, .. }) if image.size() == out.size() => {
+                image.pixels_mut().copy_from_slice(out.pixels());
+                image
+            }
+            _ => out.clone(),
+        };
         self.prev = Some(Previous {
             mesh: mesh.clone(),
             warp: warp.clone(),
-            image: out.clone(),
+            image,
             opaque,
             floating,
             marks: m.floating.clone(),
