@@ -19,6 +19,7 @@ pub(crate) use fill::fill_from_surroundings;
 pub(crate) use floating::{area_marks, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
 pub use resize::{resize_linear, resize_mapped};
+pub(crate) use resize::{resize_mapped_on, Threads};
 
 use crate::image::{Image, ImageRef};
 use crate::mesh::Mesh;

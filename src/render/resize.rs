@@ -217,14 +217,30 @@ fn round_row(row: &[[f32; 4]], out: &mut [[u8; 4]]) {
 /// Least rows per thread: below this a thread costs more than it saves.
 const ROWS_PER_THREAD: usize = 64;
 
+/// How many threads a resize may use.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Threads {
+    /// One per core: a still, where nothing else runs beside the resize.
+    AllCores,
+    /// The calling thread alone: a stage of the threaded pipeline, where the other stages
+    /// keep the cores busy with other frames, and more threads only contend with them.
+    One,
+}
+
 /// Runs `f(first_row, band)` over bands of whole rows of `rows` (`row_len` items each), one
-/// band per core: the rows of a resize pass are independent.
-fn in_bands<T: Send>(rows: &mut [T], row_len: usize, f: impl Fn(usize, &mut [T]) + Sync) {
+/// band per core with [`Threads::AllCores`]: the rows of a resize pass are independent.
+fn in_bands<T: Send>(
+    rows: &mut [T],
+    row_len: usize,
+    threads: Threads,
+    f: impl Fn(usize, &mut [T]) + Sync,
+) {
     let n = rows.len() / row_len.max(1);
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |t| t.get())
-        .min(n / ROWS_PER_THREAD)
-        .max(1);
+    let cores = match threads {
+        Threads::AllCores => std::thread::available_parallelism().map_or(1, |t| t.get()),
+        Threads::One => 1,
+    };
+    let threads = cores.min(n / ROWS_PER_THREAD).max(1);
     if threads == 1 {
         f(0, rows);
         return;
@@ -240,19 +256,40 @@ fn in_bands<T: Send>(rows: &mut [T], row_len: usize, f: impl Fn(usize, &mut [T])
 
 /// `src` resized to `target`, each axis on its own.
 pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
+    resize_linear_on(src, target, Threads::AllCores)
+}
+
+/// [`resize_linear`] on `threads`.
+fn resize_linear_on(src: ImageRef<'_>, target: Size, threads: Threads) -> Image {
     if src.size() == target {
         return src.to_owned();
     }
     let (sw, sh) = (src.width() as usize, src.height() as usize);
     let (tw, th) = (target.width as usize, target.height as usize);
-    resize_axes(src, target, || Axis::new(sw, tw), || Axis::new(sh, th))
+    resize_axes(
+        src,
+        target,
+        threads,
+        || Axis::new(sw, tw),
+        || Axis::new(sh, th),
+    )
 }
 
 /// `src` resampled onto `target` by `map`, each axis on its own (a plain linear resize where
 /// both of its axes are linear).
 pub fn resize_mapped(src: ImageRef<'_>, target: Size, map: &CanvasMap) -> Image {
+    resize_mapped_on(src, target, map, Threads::AllCores)
+}
+
+/// [`resize_mapped`] on `threads`.
+pub(crate) fn resize_mapped_on(
+    src: ImageRef<'_>,
+    target: Size,
+    map: &CanvasMap,
+    threads: Threads,
+) -> Image {
     if map.x.is_linear() && map.y.is_linear() {
-        return resize_linear(src, target);
+        return resize_linear_on(src, target, threads);
     }
     let (sw, sh) = (src.width() as usize, src.height() as usize);
     let (tw, th) = (target.width as usize, target.height as usize);
@@ -266,6 +303,7 @@ pub fn resize_mapped(src: ImageRef<'_>, target: Size, map: &CanvasMap) -> Image 
     resize_axes(
         src,
         target,
+        threads,
         || axis(sw, tw, &map.x),
         || axis(sh, th, &map.y),
     )
@@ -276,6 +314,7 @@ pub fn resize_mapped(src: ImageRef<'_>, target: Size, map: &CanvasMap) -> Image 
 fn resize_axes(
     src: ImageRef<'_>,
     target: Size,
+    threads: Threads,
     across: impl FnOnce() -> Axis,
     down: impl FnOnce() -> Axis,
 ) -> Image {
@@ -287,7 +326,7 @@ fn resize_axes(
     let Some(down) = down else {
         // Across only, rounded straight into the output.
         let across = across.expect("an axis changes").padded();
-        in_bands(out.pixels_mut(), tw, |first, band| {
+        in_bands(out.pixels_mut(), tw, threads, |first, band| {
             across.across(px, first, band.len() / tw, |y, row| {
                 round_row(row, &mut band[y * tw..][..tw])
             })
@@ -298,7 +337,7 @@ fn resize_axes(
     let mut mid = vec![[0f32; 4]; sh * tw];
     if let Some(across) = across {
         let across = across.padded();
-        in_bands(&mut mid, tw, |first, band| {
+        in_bands(&mut mid, tw, threads, |first, band| {
             across.across(px, first, band.len() / tw, |y, row| {
                 band[y * tw..][..tw].copy_from_slice(row)
             })
@@ -309,7 +348,7 @@ fn resize_axes(
         }
     }
     // Down, a whole row of taps at a time (a column at a time strides through `mid`).
-    in_bands(out.pixels_mut(), tw, |first, band| {
+    in_bands(out.pixels_mut(), tw, threads, |first, band| {
         let mut acc = vec![[0f32; 4]; tw];
         for (y, orow) in band.chunks_exact_mut(tw).enumerate() {
             let t = &down.taps[first + y];

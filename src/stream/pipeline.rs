@@ -168,8 +168,9 @@ impl Pipeline {
                 saliency: mut vsm_stage,
                 mesh: mut mesh_stage,
                 solve: mut solve_stage,
-                render: mut render_stage,
+                render: render_stage,
             } = Stages::new(target, options);
+            let mut render_stage = render_stage.in_pipeline();
             handles.push(spawn_stage(s, "vsm", rx0, tx1, stop, move |m: Frame| {
                 vsm_stage.run(m)
             }));

@@ -6,7 +6,7 @@ use super::{ms, Meshed, WithWarp};
 use crate::error::Error;
 use crate::image::Image;
 use crate::mesh::{Mark, Mesh};
-use crate::render::{resize_mapped, AreaMaps, CanvasMap, Floating, MaskKind, Renderer};
+use crate::render::{resize_mapped_on, AreaMaps, CanvasMap, Floating, MaskKind, Renderer, Threads};
 use crate::retarget::frame::{Analysis, FrameStats, Retargeted, StageTimes};
 use crate::retarget::options::Options;
 use crate::retarget::reuse::Decision;
@@ -34,6 +34,9 @@ pub(crate) struct RenderStage {
     scratch: Vec<bool>,
     /// How many marks and text blocks the last frame drew floating.
     floated: usize,
+    /// Threads of a canvas' resize: all cores for a frame alone, one inside the threaded
+    /// pipeline ([`RenderStage::in_pipeline`]).
+    threads: Threads,
 }
 
 struct Previous {
@@ -56,7 +59,16 @@ impl RenderStage {
             painted: None,
             scratch: Vec::new(),
             floated: 0,
+            threads: Threads::AllCores,
         }
+    }
+
+    /// The stage as one of the threaded pipeline's: the other stages keep the cores busy
+    /// with other frames, so its resize runs on its own thread (the same bytes, in less time
+    /// than threads that contend with those stages).
+    pub fn in_pipeline(mut self) -> RenderStage {
+        self.threads = Threads::One;
+        self
     }
 
     /// The retargeted frame: the warped raster, the marks floating over it, the vector marks
@@ -141,7 +153,10 @@ impl RenderStage {
             }
             _ if whole_canvas => {
                 let map = CanvasMap::new(mesh.structure(), mesh.size(), target);
-                (resize_mapped(warped.as_ref(), target, &map), false)
+                (
+                    resize_mapped_on(warped.as_ref(), target, &map, self.threads),
+                    false,
+                )
             }
             None => {
                 let mut out = Image::new(target);
