@@ -1125,8 +1125,8 @@ fn median_importance(imp: &[f32], gw: usize, [c0, r0, c1, r1]: [usize; 4]) -> f3
         n += row.len() as u32;
     }
     let mut below = 0;
-    for i in 0..256 {
-        let k = hist[0][i] + hist[1][i] + hist[2][i] + hist[3][i];
+    let [h0, h1, h2, h3] = &hist;
+    for (i, k) in (0..256).map(|i| (i, h0[i] + h1[i] + h2[i] + h3[i])) {
         below += k;
         if 2 * below > n {
             return i as f32 / 255.0;

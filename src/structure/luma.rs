@@ -53,7 +53,9 @@ pub(crate) fn transposed(l: &[u8], w: usize, h: usize) -> Vec<u8> {
 /// apart, then of halves four rows apart.
 #[inline(always)]
 fn transpose8(a: &mut [u64; 8]) {
-    const STEPS: [(u32, u64, [(usize, usize); 4]); 3] = [
+    /// A swap's shift, the mask of what it moves, and the rows it swaps between.
+    type Step = (u32, u64, [(usize, usize); 4]);
+    const STEPS: [Step; 3] = [
         (8, 0x00FF_00FF_00FF_00FF, [(0, 1), (2, 3), (4, 5), (6, 7)]),
         (16, 0x0000_FFFF_0000_FFFF, [(0, 2), (1, 3), (4, 6), (5, 7)]),
         (32, 0x0000_0000_FFFF_FFFF, [(0, 4), (1, 5), (2, 6), (3, 7)]),
