@@ -25,14 +25,18 @@ const STEP: u8 = 2;
 const PAD: u32 = 1;
 
 /// The text bands of a picture: half-open ranges of source columns (`x`) and rows (`y`);
-/// and its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a
-/// band (margins, the space between an axis' title and its labels), which give way first.
+/// its gaps: runs of clean columns (rows) without text at the canvas' edge or beside a band
+/// (margins, the space between an axis' title and its labels), which give way first; and
+/// of those, its margins: the gaps at the canvas' edge that are mostly the picture's ground
+/// (blank page, not a header bar's fill), which also give way to the plot.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Bands {
     pub x: Vec<[u32; 2]>,
     pub y: Vec<[u32; 2]>,
     pub gaps_x: Vec<[u32; 2]>,
     pub gaps_y: Vec<[u32; 2]>,
+    pub margins_x: Vec<[u32; 2]>,
+    pub margins_y: Vec<[u32; 2]>,
 }
 
 impl Bands {
@@ -46,6 +50,8 @@ impl Bands {
             y: common(&self.y, &before.y),
             gaps_x: common(&self.gaps_x, &before.gaps_x),
             gaps_y: common(&self.gaps_y, &before.gaps_y),
+            margins_x: common(&self.margins_x, &before.margins_x),
+            margins_y: common(&self.margins_y, &before.margins_y),
         }
     }
 }
@@ -68,9 +74,95 @@ fn common(a: &[[u32; 2]], b: &[[u32; 2]]) -> Vec<[u32; 2]> {
 /// The text bands of `image` with text blocks `text`, none inside `areas`.
 pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
     let (w, h) = (image.width(), image.height());
-    if text.is_empty() || w < 3 || h < 3 {
+    if w < 3 || h < 3 {
         return Bands::default();
     }
+    let mut bands = if text.is_empty() {
+        // No band: only the margins can give way, and only they need reading.
+        Bands {
+            gaps_x: margins(w, |x| step_across(image, x, true), |x| inside_x(areas, x)),
+            gaps_y: margins(h, |y| step_across(image, y, false), |y| inside_y(areas, y)),
+            ..Bands::default()
+        }
+    } else {
+        scan(image, text, areas)
+    };
+    let ground = ground(image);
+    let page = |g: &&[u32; 2], n: u32, columns: bool| {
+        (g[0] == 0 || g[1] == n) && mostly_ground(image, **g, columns, ground)
+    };
+    bands.margins_x = (bands.gaps_x.iter())
+        .filter(|g| page(g, w, true))
+        .copied()
+        .collect();
+    bands.margins_y = (bands.gaps_y.iter())
+        .filter(|g| page(g, h, false))
+        .copied()
+        .collect();
+    bands
+}
+
+/// The picture's ground: the colour most of its border pixels have.
+fn ground(image: ImageRef<'_>) -> [u8; 3] {
+    let (w, h, px) = (
+        image.width() as usize,
+        image.height() as usize,
+        image.pixels(),
+    );
+    let mut border: Vec<[u8; 3]> = (0..w)
+        .flat_map(|x| [px[x], px[(h - 1) * w + x]])
+        .chain((0..h).flat_map(|y| [px[y * w], px[y * w + w - 1]]))
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    border.sort_unstable();
+    let (mut best, mut most, mut run) = (border[0], 0, 0);
+    for (i, &c) in border.iter().enumerate() {
+        run = if i > 0 && border[i - 1] == c {
+            run + 1
+        } else {
+            1
+        };
+        if run > most {
+            (best, most) = (c, run);
+        }
+    }
+    best
+}
+
+/// Whether most pixels of the columns (rows, when `columns` is false) `span` are within
+/// [`STEP`] of `ground`: a page margin, not the fill of a bar that runs along the edge.
+fn mostly_ground(image: ImageRef<'_>, [a, b]: [u32; 2], columns: bool, ground: [u8; 3]) -> bool {
+    let (w, h, px) = (
+        image.width() as usize,
+        image.height() as usize,
+        image.pixels(),
+    );
+    let is_ground = |p: &[u8; 4]| (0..3).all(|c| p[c].abs_diff(ground[c]) <= STEP);
+    let (a, b) = (a as usize, b as usize);
+    let (on, all) = match columns {
+        true => (
+            (0..h)
+                .map(|y| {
+                    px[y * w + a..y * w + b]
+                        .iter()
+                        .filter(|p| is_ground(p))
+                        .count()
+                })
+                .sum::<usize>(),
+            (b - a) * h,
+        ),
+        false => (
+            px[a * w..b * w].iter().filter(|p| is_ground(p)).count(),
+            (b - a) * w,
+        ),
+    };
+    2 * on > all
+}
+
+/// [`detect`] by reading every pixel: the columns and rows that are clean, the runs of them
+/// that text lends, and the gaps.
+fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
+    let (w, h) = (image.width(), image.height());
     let mut in_text = vec![false; (w * h) as usize];
     for t in text {
         let (x0, x1) = (t.x0.saturating_sub(PAD), (t.x1 + PAD).min(w - 1));
@@ -108,10 +200,8 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
             }
         }
     }
-    let inside_x = |x: u32| areas.iter().any(|a| x as f64 > a.x0 && (x as f64) < a.x1);
-    let inside_y = |y: u32| areas.iter().any(|a| y as f64 > a.y0 && (y as f64) < a.y1);
-    let clean_x = |x: u32| !steps_x[x as usize] && !steps_x[x as usize + 1] && !inside_x(x);
-    let clean_y = |y: u32| !steps_y[y as usize] && !steps_y[y as usize + 1] && !inside_y(y);
+    let clean_x = |x: u32| !steps_x[x as usize] && !steps_x[x as usize + 1] && !inside_x(areas, x);
+    let clean_y = |y: u32| !steps_y[y as usize] && !steps_y[y as usize + 1] && !inside_y(areas, y);
     let xs: Vec<[u32; 2]> = text.iter().map(|t| [t.x0, t.x1.min(w - 1)]).collect();
     let ys: Vec<[u32; 2]> = text.iter().map(|t| [t.y0, t.y1.min(h - 1)]).collect();
     // A row of labels lends its columns all together or not at all, and a column of labels
@@ -126,7 +216,65 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         gaps_y: gaps(h, &y, |i| clean_y(i) && !text_y[i as usize]),
         x,
         y,
+        ..Bands::default()
     }
+}
+
+/// Whether column `x` lies inside a data area of `areas`.
+fn inside_x(areas: &[DataArea], x: u32) -> bool {
+    areas.iter().any(|a| x as f64 > a.x0 && (x as f64) < a.x1)
+}
+
+/// Whether row `y` lies inside a data area of `areas`.
+fn inside_y(areas: &[DataArea], y: u32) -> bool {
+    areas.iter().any(|a| y as f64 > a.y0 && (y as f64) < a.y1)
+}
+
+/// Whether some pixel of column `i` (of row `i` when `columns` is false) steps by more than
+/// [`STEP`] from the pixel one or two before it: what [`detect`] marks when no text masks
+/// anything.
+fn step_across(image: ImageRef<'_>, i: u32, columns: bool) -> bool {
+    let (w, px) = (image.width() as usize, image.pixels());
+    let differs = |p: [u8; 4], q: [u8; 4]| (0..3).any(|c| p[c].abs_diff(q[c]) > STEP);
+    let i = i as usize;
+    if columns {
+        (0..image.height() as usize).any(|y| {
+            let row = &px[y * w..][..w];
+            (i >= 1 && differs(row[i], row[i - 1])) || (i >= 2 && differs(row[i], row[i - 2]))
+        })
+    } else {
+        let row = |k: usize| &px[k * w..][..w];
+        (i >= 1 && row(i).iter().zip(row(i - 1)).any(|(&p, &q)| differs(p, q)))
+            || (i >= 2 && row(i).iter().zip(row(i - 2)).any(|(&p, &q)| differs(p, q)))
+    }
+}
+
+/// The gaps of a picture without text: its blank margins, the clean runs at either end of
+/// an axis of `n` positions, found from the ends inward (a position is clean when it and the
+/// two after it have no `step`, and it lies in no data area, as in [`detect`]), so that only
+/// the margins are read.
+fn margins(n: u32, step: impl Fn(u32) -> bool, inside: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
+    let mut known: Vec<Option<bool>> = vec![None; n as usize + 2];
+    let mut stepped = |i: u32| {
+        if i >= n {
+            return false;
+        }
+        *known[i as usize].get_or_insert_with(|| step(i))
+    };
+    let mut clean = |i: u32| !stepped(i) && !stepped(i + 1) && !stepped(i + 2) && !inside(i);
+    let lead = (0..n).find(|&i| !clean(i)).unwrap_or(n);
+    if lead == n {
+        return vec![[0, n]];
+    }
+    let trail = (0..n).rev().find(|&i| !clean(i)).map_or(0, |i| i + 1);
+    let mut out = Vec::new();
+    if lead > 0 {
+        out.push([0, lead]);
+    }
+    if trail < n {
+        out.push([trail, n]);
+    }
+    out
 }
 
 /// Which positions below `n` a span of `spans` (inclusive) covers.
@@ -232,6 +380,62 @@ fn runs(n: u32, spans: &[[u32; 2]], group: &[usize], clean: impl Fn(u32) -> bool
 mod tests {
     use super::*;
     use crate::image::{Image, Size};
+    use proptest::prelude::*;
+
+    /// A blank strip at the canvas' edge is a page margin; a header bar's fill along the top
+    /// edge is a gap (it may give way to its text) but no margin.
+    #[test]
+    fn a_margin_is_blank_page_and_a_header_bar_is_not() {
+        let mut img = Image::filled(Size::new(200, 100).unwrap(), [255, 255, 255, 255]);
+        for y in 0..20 {
+            for x in 0..200 {
+                img.set(x, y, [30, 60, 120, 255]);
+            }
+        }
+        for y in 30..90 {
+            for x in 40..160 {
+                img.set(x, y, [200 - (x as u8) / 2, 80, 40, 255]);
+            }
+        }
+        let b = detect(img.as_ref(), &[], &[]);
+        // Clean columns and rows stop two short of a step (a step reaches two pixels).
+        assert_eq!(b.gaps_x, vec![[0, 38], [162, 200]]);
+        assert_eq!(b.margins_x, b.gaps_x);
+        assert_eq!(b.gaps_y, vec![[0, 18], [92, 100]]);
+        assert_eq!(b.margins_y, vec![[92, 100]], "{b:?}");
+    }
+
+    proptest! {
+        /// Without text, the margins read from the ends inward are the gaps a scan of
+        /// every pixel finds.
+        #[test]
+        fn margins_are_the_gaps_a_full_scan_finds(
+            w in 3u32..60,
+            h in 3u32..40,
+            marks in prop::collection::vec((0u32..60, 0u32..40, 0u8..8), 0..6),
+            area in any::<bool>(),
+        ) {
+            let mut img = Image::filled(Size::new(w, h).unwrap(), [250, 250, 250, 255]);
+            for &(x, y, d) in &marks {
+                // Faint steps (within STEP) and real ones.
+                img.set(x % w, y % h, [250 - d, 250, 250, 255]);
+            }
+            let areas = match area {
+                true => vec![DataArea {
+                    x0: 1.0,
+                    y0: 2.0,
+                    x1: w as f64 / 2.0,
+                    y1: h as f64 - 1.0,
+                    kind: crate::structure::AreaKind::Axes,
+                }],
+                false => Vec::new(),
+            };
+            let (fast, full) = (detect(img.as_ref(), &[], &areas), scan(img.as_ref(), &[], &areas));
+            prop_assert_eq!(fast.gaps_x, full.gaps_x);
+            prop_assert_eq!(fast.gaps_y, full.gaps_y);
+            prop_assert!(fast.x.is_empty() && fast.y.is_empty());
+        }
+    }
 
     fn block(x0: u32, y0: u32, x1: u32, y1: u32) -> TextBlock {
         TextBlock::upright(x0, y0, x1, y1)
@@ -308,14 +512,19 @@ mod tests {
             y: vec![[0, 20], [300, 320]],
             gaps_x: vec![[0, 10]],
             gaps_y: vec![[20, 30]],
+            margins_x: vec![[0, 10]],
+            margins_y: Vec::new(),
         };
         let transient = Bands {
             x: vec![[10, 40]],
             y: vec![[0, 20]],
             gaps_x: vec![[0, 10]],
             gaps_y: vec![[20, 30]],
+            margins_x: Vec::new(),
+            margins_y: Vec::new(),
         };
         let kept = transient.kept(&first);
+        assert!(kept.margins_x.is_empty(), "a margin lost is lost");
         assert_eq!(kept.y, vec![[0, 20]]);
         let again = first.kept(&kept);
         assert_eq!(again, kept, "the lost band stays lost");
