@@ -298,12 +298,31 @@ proptest! {
     }
 }
 
+/// The least-squares line `v' = a·v + b` through the pairs `(v, v')`, and the largest
+/// distance of a pair from it.
+fn fit(pairs: &[(f64, f64)]) -> (f64, f64, f64) {
+    let n = pairs.len() as f64;
+    let (mx, my) = (
+        pairs.iter().map(|p| p.0).sum::<f64>() / n,
+        pairs.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pairs.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pairs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let a = if sxx > 0.0 { sxy / sxx } else { 1.0 };
+    let b = my - a * mx;
+    let worst = (pairs.iter())
+        .map(|p| (p.1 - (a * p.0 + b)).abs())
+        .fold(0.0, f64::max);
+    (a, b, worst)
+}
+
 /// The default (`--regions affine`) bends nothing: every dot of a scatter comes out centred
-/// where a linear resize puts it. Dots of a colour that paints only round marks on a plain
-/// ground keep their shape, all at one scale (sizes keep their proportions); where the same
-/// colour also paints a shape that is no mark (here an L), none of its dots float, and all
-/// come out as the linear resize's ellipses (judged blind, round and squeezed marks side by
-/// side read worse than all squeezed).
+/// where one map per axis puts it, at least the linear resize's scale (the blank margins
+/// give way to the plot, nothing else does). Dots of a colour that paints only round marks
+/// on a plain ground keep their shape, all at one scale (sizes keep their proportions);
+/// where the same colour also paints a shape that is no mark (here an L), none of its dots
+/// float, and all come out as the plot's ellipses (judged blind, round and squeezed marks
+/// side by side read worse than all squeezed).
 #[test]
 fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
     let radii = [5.0, 8.0, 12.0, 16.0, 20.0, 7.0, 10.0, 14.0];
@@ -317,21 +336,28 @@ fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
         let out = retarget(&img, target, &Options::default()).unwrap().image;
         let found = blobs(&out);
         assert_eq!(found.len(), dots.len() + with_l as usize, "{found:?}");
+        let at: Vec<(f64, f64, f64, f64)> = (dots.iter())
+            .map(|&(x, y, _)| nearest(&found, DVec2::new(x as f64 * 0.5, y as f64)))
+            .collect();
+        let xs: Vec<(f64, f64)> = (dots.iter().zip(&at))
+            .map(|(d, b)| (d.0 as f64, b.0))
+            .collect();
+        let ys: Vec<(f64, f64)> = (dots.iter().zip(&at))
+            .map(|(d, b)| (d.1 as f64, b.1))
+            .collect();
+        let ((ax, _, worst_x), (ay, _, worst_y)) = (fit(&xs), fit(&ys));
+        assert!(
+            worst_x <= 1.0 && worst_y <= 1.0,
+            "off one map by {worst_x}, {worst_y}"
+        );
+        assert!((0.5 - 1e-3..=1.0).contains(&ax), "x scale {ax}");
+        assert!((ay - 1.0).abs() < 1e-2, "y scale {ay}");
         let mut scales = Vec::new();
-        for &(x, y, r) in &dots {
-            let lin = DVec2::new(x as f64 * 0.5, y as f64);
-            let b = nearest(&found, lin);
-            assert!(
-                DVec2::new(b.0, b.1).distance(lin) <= 1.0,
-                "dot at ({x}, {y}) came out at ({}, {})",
-                b.0,
-                b.1
-            );
-            let (bw, bh) = (b.2, b.3);
+        for (&(_, _, r), &(_, _, bw, bh)) in dots.iter().zip(&at) {
             if with_l {
-                // Half as wide, as tall: a linear resize's ellipse.
+                // The plot's ellipse: as wide as its x scale makes it, as tall.
                 assert!(
-                    (bw - r as f64).abs() <= 1.5 && (bh - 2.0 * r as f64).abs() <= 1.5,
+                    (bw - 2.0 * ax * r as f64).abs() <= 1.5 && (bh - 2.0 * r as f64).abs() <= 1.5,
                     "a dot of radius {r} came out {bw}x{bh}"
                 );
             } else {
@@ -351,11 +377,9 @@ fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
     }
 }
 
-/// Where nothing floats (bars and frames: no text, no round marks), the default is exactly a
-/// plain linear resize: a chart that is not bent is drawn as a linear resize draws it, with no
-/// snapped or redrawn lines of its own.
-#[test]
-fn where_nothing_floats_the_default_is_the_linear_resize() {
+/// A bar chart: axes and five bars on white, inside a 1-px frame at the canvas' edge when
+/// `framed` (no blank margin then: every blank column lies inside the frame).
+fn bars(framed: bool) -> Image {
     let mut img = Image::filled(Size::new(400, 240).unwrap(), [255; 4]);
     rect(&mut img, 30, 20, 32, 220, AXIS);
     rect(&mut img, 30, 218, 380, 220, AXIS);
@@ -363,6 +387,22 @@ fn where_nothing_floats_the_default_is_the_linear_resize() {
         let x = 60 + i as u32 * 60;
         rect(&mut img, x, 218 - h, x + 36, 218, [200, 80, 40, 255]);
     }
+    if framed {
+        rect(&mut img, 0, 0, 400, 1, AXIS);
+        rect(&mut img, 0, 239, 400, 240, AXIS);
+        rect(&mut img, 0, 0, 1, 240, AXIS);
+        rect(&mut img, 399, 0, 400, 240, AXIS);
+    }
+    img
+}
+
+/// Where nothing floats and no margin gives way (bars and frames: no text, no round marks,
+/// no blank strip at the canvas' edge), the default is exactly a plain linear resize: a
+/// chart that is not bent is drawn as a linear resize draws it, with no snapped or redrawn
+/// lines of its own.
+#[test]
+fn where_nothing_floats_the_default_is_the_linear_resize() {
+    let img = bars(true);
     for target in [Size::new(200, 240).unwrap(), Size::new(400, 144).unwrap()] {
         let out = retarget(&img, target, &Options::default()).unwrap().image;
         let linear = vizretarget::resize_linear(img.as_ref(), target);
@@ -371,6 +411,60 @@ fn where_nothing_floats_the_default_is_the_linear_resize() {
             "{target:?}: the default differs from the linear resize"
         );
     }
+}
+
+/// Bars' columns of `img` along row `y`: the runs of bar-coloured pixels, `[first, last]`.
+fn bar_runs(img: &Image, y: u32) -> Vec<[u32; 2]> {
+    let bar = |x: u32| {
+        let p = img.get(x, y);
+        p[0] > 150 && p[1] < 130
+    };
+    let mut runs: Vec<[u32; 2]> = Vec::new();
+    for x in 0..img.width() {
+        match runs.last_mut() {
+            Some(r) if bar(x) && r[1] + 1 == x => r[1] = x,
+            _ if bar(x) => runs.push([x, x]),
+            _ => {}
+        }
+    }
+    runs
+}
+
+/// Where wide blank margins give way, the plot grows by one scale along the axis that
+/// shrinks: its bars stay evenly spaced and equally wide, wider than a linear resize draws
+/// them. Thin margins (the framed-less chart of [`bars`]) give nothing: a plot a few percent
+/// larger is not worth margins pressed to the edge.
+#[test]
+fn blank_margins_give_way_to_the_plot_at_one_scale() {
+    let mut img = Image::filled(Size::new(700, 240).unwrap(), [255; 4]);
+    let chart = bars(false);
+    for y in 0..240 {
+        for x in 0..400 {
+            img.set(150 + x, y, chart.get(x, y));
+        }
+    }
+    let target = Size::new(350, 240).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap().image;
+    let linear = vizretarget::resize_linear(img.as_ref(), target);
+    let (runs, lin) = (bar_runs(&out, 200), bar_runs(&linear, 200));
+    assert_eq!(runs.len(), 5, "{runs:?}");
+    let widths: Vec<u32> = runs.iter().map(|r| r[1] - r[0] + 1).collect();
+    let steps: Vec<u32> = runs.windows(2).map(|w| w[1][0] - w[0][0]).collect();
+    assert!(
+        widths.iter().max().unwrap() - widths.iter().min().unwrap() <= 1,
+        "{widths:?}"
+    );
+    assert!(
+        steps.iter().max().unwrap() - steps.iter().min().unwrap() <= 1,
+        "{steps:?}"
+    );
+    assert!(
+        widths[0] > lin[0][1] - lin[0][0] + 2,
+        "{widths:?} against {lin:?}"
+    );
+    // The thin margins of the chart alone: the linear resize.
+    let thin = retarget(&chart, Size::new(200, 240).unwrap(), &Options::default()).unwrap();
+    assert!(thin.image == vizretarget::resize_linear(chart.as_ref(), Size::new(200, 240).unwrap()));
 }
 
 /// Dark columns of `img` in `x0..x1` between rows `y0..y1`: the first and last, if any.
@@ -382,10 +476,10 @@ fn ink_columns(img: &Image, [x0, x1]: [u32; 2], [y0, y1]: [u32; 2]) -> Option<(u
 }
 
 /// Tick labels in a chart's left margin keep more of their width than a linear resize's
-/// half (the margin's blank columns give way), while the plot's axes and bars are the
-/// linear resize's, moved by whole pixels.
+/// half (the margin's blank columns give way), while the plot keeps one scale, at least the
+/// linear resize's: its bars evenly spaced and equally wide.
 #[test]
-fn labels_in_a_margin_keep_their_width_and_the_plot_its_linear_place() {
+fn labels_in_a_margin_keep_their_width_and_the_plot_one_scale() {
     let mut img = Image::filled(Size::new(600, 300).unwrap(), [255; 4]);
     for (i, label) in ["1200", "800", "400"].iter().enumerate() {
         vizretarget::compare::draw_label(&mut img, 8.0, 40.0 + 80.0 * i as f32, 18.0, label);
@@ -408,23 +502,22 @@ fn labels_in_a_margin_keep_their_width_and_the_plot_its_linear_place() {
         kept as f64 >= 0.65 * src as f64 && kept > squeezed + 2,
         "label {src} px wide, kept {kept}, linear {squeezed}"
     );
-    // The plot: from the axis on, the linear resize's columns, bars and all, moved by as
-    // many whole pixels as the margin grew.
-    let axis = |img: &Image| {
-        (30..150)
-            .find(|&x| img.get(x, 150)[0] < 128)
-            .expect("an axis")
-    };
-    let (at, at_linear) = (axis(&out), axis(&linear));
-    let plot = 300 - at.max(at_linear) - 2;
-    for i in 0..plot {
-        for y in (0..300).step_by(7) {
-            let (p, q) = (out.get(at + i, y), linear.get(at_linear + i, y));
-            assert!(
-                (0..3).all(|k| p[k].abs_diff(q[k]) <= 1),
-                "({}, {y}): {p:?} against the linear {q:?}",
-                at + i
-            );
-        }
-    }
+    // The plot: five bars, evenly spaced and equally wide, none narrower than the linear
+    // resize's.
+    let (runs, lin) = (bar_runs(&out, 270), bar_runs(&linear, 270));
+    assert_eq!(runs.len(), 5, "{runs:?}");
+    let widths: Vec<u32> = runs.iter().map(|r| r[1] - r[0] + 1).collect();
+    let steps: Vec<u32> = runs.windows(2).map(|w| w[1][0] - w[0][0]).collect();
+    assert!(
+        widths.iter().max().unwrap() - widths.iter().min().unwrap() <= 1,
+        "{widths:?}"
+    );
+    assert!(
+        steps.iter().max().unwrap() - steps.iter().min().unwrap() <= 1,
+        "{steps:?}"
+    );
+    assert!(
+        widths[0] + 1 >= lin[0][1] - lin[0][0] + 1,
+        "{widths:?} against {lin:?}"
+    );
 }

@@ -13,6 +13,12 @@ use crate::structure::Structure;
 /// of what a linear resize leaves it, so that panels and labels stay apart.
 const LEAST_GAP_SHARE: f64 = 0.25;
 
+/// Least growth of a plot over the linear resize's scale for its margins to give way to
+/// it: a tenth. A plot a few percent larger is hardly seen, while its margins pressed to the
+/// canvas' edge are (judged blind, such copies lost to a linear resize; at a tenth or more
+/// the larger plot won).
+const LEAST_GROWTH: f64 = 0.1;
+
 /// A monotone piecewise-linear map of one axis, source `[0, n]` onto output `[0, m]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AxisMap {
@@ -29,34 +35,104 @@ impl AxisMap {
     }
 
     /// `n` source pixels onto `m`: the half-open text `bands` at their size (or as near as
-    /// the `gaps` can make room for, down to a quarter of their linear size), everything else at the
-    /// linear resize's scale, so that what is read off a position is where a linear resize
-    /// puts it; linear when the axis does not shrink or nothing can give way. A band starts
-    /// on a whole output pixel (copied, not resampled between pixels) and every other stretch
-    /// keeps the linear resize's phase (its thin lines fall on pixels as they did).
-    pub fn with_bands(n: u32, m: u32, bands: &[[u32; 2]], gaps: &[[u32; 2]]) -> AxisMap {
+    /// the `gaps` can make room for, down to a quarter of their linear size); then, with what
+    /// the margins at the canvas' edge can still give, everything else (the plot) at one
+    /// scale above the linear resize's, up to the source's own: blank margins give way to
+    /// what is read before it shrinks, while the space between a band and the plot (a
+    /// title's, an axis' labels') keeps its share and the text stays clear of the plot.
+    /// Linear when the axis does not shrink or nothing can give way. Inside the plot every
+    /// position and length stays proportional (one scale). A band starts on a whole output
+    /// pixel (copied, not resampled between pixels) and every other stretch keeps the phase
+    /// a resize at its scale would give it (its thin lines fall on pixels as they would
+    /// there).
+    ///
+    /// `margins` are the gaps at the canvas' edge that may give way to the plot (blank
+    /// page); the plot grows only where it grows visibly, by [`LEAST_GROWTH`] or more.
+    pub fn with_bands(
+        n: u32,
+        m: u32,
+        bands: &[[u32; 2]],
+        gaps: &[[u32; 2]],
+        margins: &[[u32; 2]],
+    ) -> AxisMap {
+        AxisMap::with_bands_at_most(n, m, [bands, gaps, margins], 1.0)
+    }
+
+    /// The scales [`AxisMap::with_bands`] gives: `None` when the map is linear.
+    fn scales(n: u32, m: u32, [bands, gaps, margins]: Spans) -> Option<Scales> {
         let (nf, mf) = (n as f64, m as f64);
-        let len = |v: &[[u32; 2]]| v.iter().map(|b| (b[1] - b[0]) as f64).sum::<f64>();
-        let (kept, give) = (len(bands), len(gaps));
-        if m >= n || kept <= 0.0 || give <= 0.0 || kept + give > nf {
-            return AxisMap::linear(n, m);
+        let (kept, give) = (spanned(bands), spanned(gaps));
+        if m >= n || give <= 0.0 || kept + give > nf {
+            return None;
         }
         let linear = mf / nf;
-        let room = linear * (kept + give) - LEAST_GAP_SHARE * linear * give;
-        let band = (room / kept).min(1.0);
-        if band <= linear * (1.0 + 1e-6) {
+        let (least_gap, plot) = (LEAST_GAP_SHARE * linear, nf - kept - give);
+        // The bands first, with the plot at the linear scale: every gap gives alike.
+        let room = linear * (kept + give) - least_gap * give;
+        let band = match kept > 0.0 {
+            true => (room / kept).clamp(linear, 1.0),
+            false => linear,
+        };
+        let gap = (linear * (kept + give) - band * kept) / give;
+        // Then the plot, with what the margins have left above their least share.
+        let edge = spanned(&edge_gaps(gaps, margins).collect::<Vec<_>>());
+        let spare = (gap - least_gap).max(0.0) * edge;
+        let scale = match plot > 0.0 {
+            true => (linear + spare / plot).min(1.0),
+            false => linear,
+        };
+        let grows = |s: f64| s > linear * (1.0 + 1e-6);
+        (grows(band) || grows(scale)).then_some(Scales {
+            band,
+            gap,
+            scale,
+            plot,
+        })
+    }
+
+    /// [`AxisMap::with_bands`] with the plot's scale at most `most` (and at least the linear
+    /// resize's): the margins keep what the plot does not take.
+    fn with_bands_at_most(n: u32, m: u32, spans: Spans, most: f64) -> AxisMap {
+        let [bands, gaps, margins] = spans;
+        let Some(Scales {
+            band,
+            gap,
+            scale,
+            plot,
+        }) = AxisMap::scales(n, m, spans)
+        else {
+            return AxisMap::linear(n, m);
+        };
+        let (nf, mf) = (n as f64, m as f64);
+        let linear = mf / nf;
+        let scale = scale.min(most).max(linear);
+        // A plot a few percent larger is hardly seen; its margins pressed to the edge are.
+        let scale = if scale >= linear * (1.0 + LEAST_GROWTH) {
+            scale
+        } else {
+            linear
+        };
+        if band <= linear * (1.0 + 1e-6) && scale <= linear * (1.0 + 1e-6) {
             return AxisMap::linear(n, m);
         }
-        let gap = (linear * (kept + give) - band * kept) / give;
+        // The margins take what is left; the gaps beside bands keep `gap`.
+        let kept = spanned(bands);
+        let edges: Vec<[u32; 2]> = edge_gaps(gaps, margins).collect();
+        let (edge, inner) = (spanned(&edges), spanned(gaps) - spanned(&edges));
+        let margin = match edge > 0.0 {
+            true => (mf - band * kept - gap * inner - scale * plot) / edge,
+            false => gap,
+        };
+        let gap_scale = |g: &[u32; 2]| if edges.contains(g) { margin } else { gap };
         let mut spans: Vec<([u32; 2], f64, bool)> = (bands.iter().map(|&b| (b, band, true)))
-            .chain(gaps.iter().map(|&g| (g, gap, false)))
+            .chain(gaps.iter().map(|g| (*g, gap_scale(g), false)))
             .collect();
         spans.sort_by_key(|s| s.0[0]);
         let knots = |snap: bool| {
-            // Where a stretch at the linear scale starts: snapped, a whole number of pixels
-            // from where the linear resize puts it.
+            // Where a stretch of the plot starts: snapped, a whole number of pixels from
+            // where a resize at the plot's scale puts it.
             let in_phase = |pos: f64, out: f64| match snap {
-                true => pos * linear + (out - pos * linear).round(),
+                true => pos * scale + (out - pos * scale).round(),
                 false => out,
             };
             let mut knots = vec![[0.0, 0.0]];
@@ -66,19 +142,19 @@ impl AxisMap {
                     knots.push([x, o]);
                 }
             };
-            for &([a, e], scale, is_band) in &spans {
+            for &([a, e], span_scale, is_band) in &spans {
                 let (a, e) = (a as f64, e as f64);
                 if a > pos {
-                    // The stretch before at the linear scale, in the linear resize's phase.
+                    // The stretch before, of the plot, in its phase.
                     out = in_phase(pos, out);
                     push(&mut knots, pos, out);
-                    out += (a - pos) * linear;
+                    out += (a - pos) * scale;
                 }
                 if snap && is_band {
                     out = out.round();
                 }
                 push(&mut knots, a, out);
-                out += (e - a) * scale;
+                out += (e - a) * span_scale;
                 pos = e;
             }
             if nf > pos {
@@ -142,6 +218,31 @@ impl AxisMap {
     }
 }
 
+/// The scales of a map with bands: of its bands, of the gaps beside them, and of its plot
+/// (and how long the plot is, source pixels).
+struct Scales {
+    band: f64,
+    gap: f64,
+    scale: f64,
+    plot: f64,
+}
+
+/// The bands, gaps and margins of one axis.
+type Spans<'a> = [&'a [[u32; 2]]; 3];
+
+/// The gaps of `gaps` that are `margins` (a stream keeps only what every frame has).
+fn edge_gaps<'a>(
+    gaps: &'a [[u32; 2]],
+    margins: &'a [[u32; 2]],
+) -> impl Iterator<Item = [u32; 2]> + 'a {
+    gaps.iter().copied().filter(move |g| margins.contains(g))
+}
+
+/// The length the half-open `spans` cover together.
+fn spanned(spans: &[[u32; 2]]) -> f64 {
+    spans.iter().map(|b| (b[1] - b[0]) as f64).sum()
+}
+
 fn slope(a: [f64; 2], b: [f64; 2]) -> f64 {
     if b[0] > a[0] {
         (b[1] - a[1]) / (b[0] - a[0])
@@ -159,21 +260,32 @@ pub struct CanvasMap {
 
 impl CanvasMap {
     /// The map of a `source` canvas onto `target` that keeps `structure`'s text bands.
+    ///
+    /// Where the margins let the plot grow along both axes, it grows no further along one
+    /// than keeps its shape between the linear resize's and its own: the plot of a picture
+    /// halved both ways, with wide side margins, is not drawn wider than it was.
     pub fn new(structure: Option<&Structure>, source: Size, target: Size) -> CanvasMap {
-        let bands = structure.map(|s| &s.bands);
+        let empty = crate::structure::Bands::default();
+        let b = structure.map_or(&empty, |s| &s.bands);
+        let (n, m) = ([source.width, source.height], [target.width, target.height]);
+        let spans: [Spans; 2] = [
+            [&b.x, &b.gaps_x, &b.margins_x],
+            [&b.y, &b.gaps_y, &b.margins_y],
+        ];
+        // Each axis' plot scale alone (its linear one when nothing gives way)...
+        let alone: [f64; 2] = std::array::from_fn(|k| {
+            let linear = m[k] as f64 / n[k] as f64;
+            AxisMap::scales(n[k], m[k], spans[k]).map_or(linear, |s| s.scale)
+        });
+        // ...held so that the plot's aspect (x scale over y scale) lies between the linear
+        // resize's and 1.
+        let linear_aspect = (m[0] as f64 / n[0] as f64) / (m[1] as f64 / n[1] as f64);
+        let (lo, hi) = (linear_aspect.min(1.0), linear_aspect.max(1.0));
+        let most = [alone[1] * hi, alone[0] / lo];
+        let axis = |k: usize| AxisMap::with_bands_at_most(n[k], m[k], spans[k], most[k]);
         CanvasMap {
-            x: AxisMap::with_bands(
-                source.width,
-                target.width,
-                bands.map_or(&[][..], |b| &b.x[..]),
-                bands.map_or(&[][..], |b| &b.gaps_x[..]),
-            ),
-            y: AxisMap::with_bands(
-                source.height,
-                target.height,
-                bands.map_or(&[][..], |b| &b.y[..]),
-                bands.map_or(&[][..], |b| &b.gaps_y[..]),
-            ),
+            x: axis(0),
+            y: axis(1),
         }
     }
 
@@ -221,9 +333,9 @@ mod tests {
     use proptest::prelude::*;
 
     #[test]
-    fn a_margin_keeps_its_size_and_the_plot_the_linear_scale() {
+    fn labels_take_what_the_gaps_give_and_the_plot_keeps_the_linear_scale() {
         // Labels at 10..60 with gaps around them; the plot from 70 on.
-        let m = AxisMap::with_bands(1000, 500, &[[10, 60]], &[[0, 10], [60, 70]]);
+        let m = AxisMap::with_bands(1000, 500, &[[10, 60]], &[[0, 10], [60, 70]], &[[0, 10]]);
         assert!(
             m.slope(30.0) > 0.5,
             "the labels grow back toward their size"
@@ -245,7 +357,7 @@ mod tests {
 
     #[test]
     fn gaps_give_way_down_to_a_quarter() {
-        let m = AxisMap::with_bands(1000, 500, &[[100, 200]], &[[0, 100]]);
+        let m = AxisMap::with_bands(1000, 500, &[[100, 200]], &[[0, 100]], &[[0, 100]]);
         let gap = m.slope(50.0);
         assert!((gap - LEAST_GAP_SHARE * 0.5).abs() < 0.02, "{gap}");
         assert!(m.slope(150.0) > 0.5 && m.slope(150.0) < 1.0);
@@ -253,11 +365,69 @@ mod tests {
     }
 
     #[test]
-    fn no_band_no_gap_or_no_shrink_is_linear() {
-        assert!(AxisMap::with_bands(1000, 500, &[], &[[0, 40]]).is_linear());
-        assert!(AxisMap::with_bands(1000, 500, &[[0, 40]], &[]).is_linear());
-        assert!(AxisMap::with_bands(500, 800, &[[0, 40]], &[[40, 60]]).is_linear());
-        assert!(AxisMap::with_bands(500, 500, &[[0, 40]], &[[40, 60]]).is_linear());
+    fn blank_margins_give_way_to_the_plot() {
+        let m = AxisMap::with_bands(
+            1000,
+            500,
+            &[],
+            &[[0, 100], [900, 1000]],
+            &[[0, 100], [900, 1000]],
+        );
+        // The margins keep a quarter of their linear share; the plot takes the rest.
+        let s = (500.0 - LEAST_GAP_SHARE * 0.5 * 200.0) / 800.0;
+        assert!(s > 0.5);
+        for x in [150.0, 500.0, 850.0] {
+            assert!((m.slope(x) - s).abs() < 1e-9, "{}", m.slope(x));
+            assert!((m.apply(x) - m.apply(100.0) - s * (x - 100.0)).abs() < 1e-9);
+        }
+        assert!(m.slope(50.0) < 0.5 && m.slope(950.0) < 0.5);
+        assert_eq!(m.apply(1000.0), 500.0);
+    }
+
+    #[test]
+    fn the_plot_never_grows_past_its_own_size() {
+        let m = AxisMap::with_bands(1000, 900, &[], &[[0, 500]], &[[0, 500]]);
+        assert!((m.slope(700.0) - 1.0).abs() < 1e-9, "{}", m.slope(700.0));
+        assert!((m.slope(200.0) - 0.8).abs() < 1e-9, "{}", m.slope(200.0));
+    }
+
+    #[test]
+    fn the_plot_grows_no_wider_than_its_own_shape() {
+        let size = Size::new(1000, 1000).unwrap();
+        let mut s = Structure::default();
+        s.bands.gaps_x = vec![[0, 200], [800, 1000]];
+        s.bands.margins_x = s.bands.gaps_x.clone();
+        // Halved both ways: the side margins alone would draw the plot at 0.75 x 0.5.
+        let halved = CanvasMap::new(Some(&s), size, Size::new(500, 500).unwrap());
+        assert!(halved.x.is_linear() && halved.y.is_linear());
+        // Halved in width only: the plot grows back toward its shape, up to it at most.
+        let narrow = CanvasMap::new(Some(&s), size, Size::new(500, 1000).unwrap());
+        assert!((narrow.x.slope(500.0) - 0.75).abs() < 1e-9);
+        // Halved in width, to 80 % in height with top and bottom margins too: the x scale
+        // may not pass the y scale.
+        s.bands.gaps_y = vec![[0, 150], [850, 1000]];
+        s.bands.margins_y = s.bands.gaps_y.clone();
+        let both = CanvasMap::new(Some(&s), size, Size::new(500, 800).unwrap());
+        let (sx, sy) = (both.x.slope(500.0), both.y.slope(500.0));
+        assert!(sx > 0.5 && sy > 0.8 && sx <= sy + 1e-9, "{sx} {sy}");
+    }
+
+    #[test]
+    fn a_plot_grows_visibly_or_not_at_all() {
+        // Thin margins would let the plot grow by under a percent: it keeps the linear scale
+        // and the margins theirs.
+        assert!(AxisMap::with_bands(1000, 500, &[], &[[0, 10]], &[[0, 10]]).is_linear());
+        // A gap that is no margin (a header bar's fill at the edge) gives nothing to the plot.
+        assert!(AxisMap::with_bands(1000, 500, &[], &[[0, 300]], &[]).is_linear());
+        assert!(!AxisMap::with_bands(1000, 500, &[], &[[0, 300]], &[[0, 300]]).is_linear());
+    }
+
+    #[test]
+    fn no_gap_or_no_shrink_is_linear() {
+        assert!(AxisMap::with_bands(1000, 500, &[[0, 40]], &[], &[]).is_linear());
+        assert!(AxisMap::with_bands(1000, 500, &[], &[], &[]).is_linear());
+        assert!(AxisMap::with_bands(500, 800, &[[0, 40]], &[[40, 60]], &[]).is_linear());
+        assert!(AxisMap::with_bands(500, 500, &[[0, 40]], &[[40, 60]], &[]).is_linear());
     }
 
     proptest! {
@@ -278,7 +448,9 @@ mod tests {
             spans.sort();
             spans.dedup_by(|b, a| b.0[0] < a.0[1]);
             let pick = |band: bool| spans.iter().filter(|s| s.1 == band).map(|s| s.0).collect::<Vec<_>>();
-            let map = AxisMap::with_bands(n, m, &pick(true), &pick(false));
+            let gaps = pick(false);
+            let margins: Vec<[u32; 2]> = gaps.iter().copied().filter(|g| g[0] == 0 || g[1] == n).collect();
+            let map = AxisMap::with_bands(n, m, &pick(true), &gaps, &margins);
             prop_assert!((map.apply(0.0)).abs() < 1e-9);
             prop_assert!((map.apply(n as f64) - m as f64).abs() < 1e-9);
             let mut last = -1.0;

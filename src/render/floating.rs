@@ -2097,7 +2097,13 @@ mod tests {
     fn a_block_the_map_keeps_at_its_size_does_not_float() {
         let (img, st) = chart(&[[20, 40, 60, 50], [120, 40, 160, 50]], &[]);
         let band = crate::render::CanvasMap {
-            x: crate::render::AxisMap::with_bands(200, 100, &[[20, 61]], &[[0, 20], [61, 110]]),
+            x: crate::render::AxisMap::with_bands(
+                200,
+                100,
+                &[[20, 61]],
+                &[[0, 20], [61, 110]],
+                &[[0, 20]],
+            ),
             y: crate::render::AxisMap::linear(100, 100),
         };
         assert_eq!(band.local(DVec2::new(40.0, 45.0))[0], 1.0);
