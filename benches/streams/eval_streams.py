@@ -13,8 +13,13 @@ JSON instead of the table:
   marks   marks found / expected, over all frames. A mark (centre, radius, colour from
           streams.json) is found when a blob of its colour (connected pixels within 70 of it,
           at least 6) has its centroid within the mark's radius (times the smaller of W'/W and
-          H'/H) plus 3 px of the mark's centre taken to the target by the linear map
-          (x W'/W, y H'/H). Each blob serves one mark, nearest pairs first.
+          H'/H) plus 3 px of the mark's centre taken to the target by the frame's map. Each
+          blob serves one mark, nearest pairs first. The frame's map is one affine map per
+          axis (x a + b, y c + d), fitted by least squares to the blobs found within a wide
+          reach (a sixth of the target's smaller side) of where the linear map (x W'/W,
+          y H'/H) puts the marks, outliers over 3 px dropped; the linear map where fewer than
+          three marks pair up. Kept text bands move a plot by whole pixels and margins that
+          give way scale it up: still one map per axis, which a fixed linear map misreads.
   round   median roundness of the found marks: minor / major axis from the blob's second
           moments (1 for a circle; a circle squashed to half its width gives 0.5)
   r!=f    share of the pixels more than 48 levels apart (any channel) between the reused and the
@@ -23,7 +28,7 @@ JSON instead of the table:
           those where the input did not change: the mask of input pixels that changed at all is
           dilated by the resampler's reach (3 source pixels plus the scale factor, the larger of
           W/W' and H/H'; a square, the resampler being separable) and sampled on the output grid
-          by the linear map. Median and worst over
+          by the frame's map (as for marks). Median and worst over
           frames 1 to n-1 (frames whose whole output is covered by the mask are left out).
 Exits 1 with a message naming the run if BIN fails. Needs numpy, scipy and pillow.
 """
@@ -65,37 +70,76 @@ def blobs(img, colour):
     return np.vstack([mx + 0.5, my + 0.5, rnd])
 
 
-def find_marks(img, marks, sx, sy):
-    """Roundness of the blob found for each expected mark, None where none is found."""
+def pair_marks(img, marks, amap, reach):
+    """For each expected mark, the blob (x, y, roundness) paired with it, or None: blobs of
+    its colour whose centroid lies within the mark's scaled radius plus reach of where amap
+    (ax, bx, ay, by) puts its centre; each blob serves one mark, nearest pairs first."""
     found = [None] * len(marks)
     if img is None:
         return found
+    ax, bx, ay, by = amap
     for colour in {tuple(m["rgb"]) for m in marks}:
-        bx, by, rnd = blobs(img, np.array(colour))
+        cx, cy, rnd = blobs(img, np.array(colour))
         pairs = []
         for i, m in enumerate(marks):
             if tuple(m["rgb"]) != colour:
                 continue
-            tol = m["r"] * min(sx, sy) + NEAR_PX
-            d = np.hypot(bx - m["x"] * sx, by - m["y"] * sy)
+            tol = m["r"] * min(ax, ay) + reach
+            d = np.hypot(cx - (m["x"] * ax + bx), cy - (m["y"] * ay + by))
             pairs += [(d[j], i, j) for j in np.nonzero(d <= tol)[0]]
         used = set()
         for _, i, j in sorted(pairs):
             if found[i] is None and j not in used:
-                found[i] = float(rnd[j])
+                found[i] = (float(cx[j]), float(cy[j]), float(rnd[j]))
                 used.add(j)
     return found
 
 
-def still_share(in0, in1, out0, out1, reach):
+def fit_map(img, marks, sx, sy):
+    """The frame's map (ax, bx, ay, by): least squares, per axis, from the marks paired within
+    a wide reach of the linear map, outliers over NEAR_PX dropped; the linear map where fewer
+    than three pair up or an axis' marks do not spread."""
+    linear = (sx, 0.0, sy, 0.0)
+    if img is None:
+        return linear
+    h, w = img.shape[:2]
+    pairs = [(m, f) for m, f in zip(marks, pair_marks(img, marks, linear, min(w, h) / 6)) if f]
+    amap = linear
+    for _ in range(2):
+        if len(pairs) < 3:
+            return linear
+        fit = []
+        for src, out in ((0, 0), (1, 1)):
+            u = np.array([p[0]["x" if src == 0 else "y"] for p in pairs])
+            v = np.array([p[1][out] for p in pairs])
+            if np.ptp(u) < 1e-6:
+                return linear
+            a, b = np.polyfit(u, v, 1)
+            fit += [float(a), float(b)]
+        amap = tuple(fit)
+        ax, bx, ay, by = amap
+        pairs = [p for p in pairs if math.hypot(p[1][0] - (p[0]["x"] * ax + bx),
+                                                p[1][1] - (p[0]["y"] * ay + by)) <= NEAR_PX]
+    return amap
+
+
+def find_marks(img, marks, amap):
+    """Roundness of the blob found for each expected mark under the frame's map, None where
+    none is found."""
+    return [f[2] if f else None for f in pair_marks(img, marks, amap, NEAR_PX)]
+
+
+def still_share(in0, in1, out0, out1, reach, amap):
     """Share of output pixels that changed among those whose input did not change (None if
-    the dilated input change covers the whole output or a frame is missing)."""
+    the dilated input change covers the whole output or a frame is missing); output pixels
+    are taken back to the input by the frame's map amap."""
     if out0 is None or out1 is None:
         return None
     changed = ndimage.maximum_filter((in0 != in1).any(-1), size=2 * math.ceil(reach) + 1)
     (h, w), (th, tw) = in0.shape[:2], out0.shape[:2]
-    ys = ((np.arange(th) + 0.5) * h / th).astype(int)
-    xs = ((np.arange(tw) + 0.5) * w / tw).astype(int)
+    ax, bx, ay, by = amap
+    ys = np.clip(((np.arange(th) + 0.5 - by) / ay).astype(int), 0, h - 1)
+    xs = np.clip(((np.arange(tw) + 0.5 - bx) / ax).astype(int), 0, w - 1)
     still = ~changed[ys][:, xs]
     if not still.any():
         return None
@@ -133,10 +177,12 @@ def judge(stream, sdir, odir, size):
         fr = {"frame": stream["frames"][k], "expected": len(marks)}
         for m in MODES:
             o = outs[m][k]
-            rnd = [x for x in find_marks(o, marks, sx, sy) if x is not None]
-            fr[m] = {"ok": o is not None, "found": len(rnd),
+            amap = fit_map(o, marks, sx, sy)
+            rnd = [x for x in find_marks(o, marks, amap) if x is not None]
+            fr[m] = {"ok": o is not None, "found": len(rnd), "map": list(amap),
                      "round": float(np.median(rnd)) if rnd else None, "rounds": rnd,
-                     "still": still_share(ins[k - 1], ins[k], outs[m][k - 1], o, reach) if k else None}
+                     "still": still_share(ins[k - 1], ins[k], outs[m][k - 1], o, reach, amap)
+                     if k else None}
         r, f = outs["reuse"][k], outs["fresh"][k]
         fr["apart"] = float((np.abs(r - f).max(-1) > APART).mean()) if r is not None and f is not None else None
         frames.append(fr)
