@@ -662,6 +662,60 @@ mod tests {
         assert!(vsm.get(82, 60) > 0.15, "its inside is context");
     }
 
+    /// Each cell is the rounded mean of its (up to) four pixels, composited over white, in
+    /// opaque rows (the vector path) and in rows with a transparent pixel alike, odd sides
+    /// included.
+    #[test]
+    fn a_half_scale_cell_is_the_mean_of_its_pixels() {
+        for (w, h, hole) in [
+            (9u32, 7u32, false),
+            (9, 7, true),
+            (16, 4, false),
+            (1, 3, true),
+        ] {
+            let mut v = 12_345u32;
+            let mut img = Image::new(Size::new(w, h).unwrap());
+            for y in 0..h {
+                for x in 0..w {
+                    v = v.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+                    let [a, b, c, _] = v.to_le_bytes();
+                    img.set(x, y, [a, b, c, 255]);
+                }
+            }
+            if hole {
+                img.set(0, 1, [10, 20, 30, 100]);
+            }
+            let cells = Rect {
+                x0: 0,
+                y0: 0,
+                x1: w.div_ceil(2),
+                y1: h.div_ceil(2),
+            };
+            let mut out = Vec::new();
+            downsample(img.as_ref(), cells, 2, &mut out);
+            for cy in 0..cells.y1 {
+                for cx in 0..cells.x1 {
+                    let quad = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| {
+                        img.get((2 * cx + dx).min(w - 1), (2 * cy + dy).min(h - 1))
+                    });
+                    let over_white = |p: [u8; 4], k: usize| {
+                        let a = p[3] as u32;
+                        (p[k] as u32 * a + 255 * (255 - a) + 127) / 255
+                    };
+                    let want: [u8; 3] = std::array::from_fn(|k| {
+                        ((quad.iter().map(|&p| over_white(p, k)).sum::<u32>() + 2) / 4) as u8
+                    });
+                    let got = out[(cy * cells.x1 + cx) as usize];
+                    assert_eq!(
+                        got,
+                        [want[0], want[1], want[2], 255],
+                        "{w}x{h} cell ({cx}, {cy})"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn uniform_image_has_no_salient_pixels() {
         for colour in [[255, 255, 255, 255], [30, 90, 200, 255], [0, 0, 0, 0]] {
