@@ -47,7 +47,7 @@ impl AxisMap {
     /// there).
     ///
     /// `margins` are the gaps at the canvas' edge that may give way to the plot (blank
-    /// page); the plot grows only where it grows visibly, by [`LEAST_GROWTH`] or more.
+    /// page); the plot grows only where it grows visibly, by a tenth or more.
     pub fn with_bands(
         n: u32,
         m: u32,
