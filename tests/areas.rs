@@ -430,6 +430,18 @@ fn bar_runs(img: &Image, y: u32) -> Vec<[u32; 2]> {
     runs
 }
 
+/// The widths of five bars' `runs`, asserted even: equally wide and evenly spaced, to a
+/// pixel.
+fn even_bars(runs: &[[u32; 2]]) -> Vec<u32> {
+    assert_eq!(runs.len(), 5, "{runs:?}");
+    let widths: Vec<u32> = runs.iter().map(|r| r[1] - r[0] + 1).collect();
+    let steps: Vec<u32> = runs.windows(2).map(|w| w[1][0] - w[0][0]).collect();
+    let spread = |v: &[u32]| v.iter().max().unwrap() - v.iter().min().unwrap();
+    assert!(spread(&widths) <= 1, "{widths:?}");
+    assert!(spread(&steps) <= 1, "{steps:?}");
+    widths
+}
+
 /// Where wide blank margins give way, the plot grows by one scale along the axis that
 /// shrinks: its bars stay evenly spaced and equally wide, wider than a linear resize draws
 /// them. Thin margins (the framed-less chart of [`bars`]) give nothing: a plot a few percent
@@ -447,17 +459,7 @@ fn blank_margins_give_way_to_the_plot_at_one_scale() {
     let out = retarget(&img, target, &Options::default()).unwrap().image;
     let linear = vizretarget::resize_linear(img.as_ref(), target);
     let (runs, lin) = (bar_runs(&out, 200), bar_runs(&linear, 200));
-    assert_eq!(runs.len(), 5, "{runs:?}");
-    let widths: Vec<u32> = runs.iter().map(|r| r[1] - r[0] + 1).collect();
-    let steps: Vec<u32> = runs.windows(2).map(|w| w[1][0] - w[0][0]).collect();
-    assert!(
-        widths.iter().max().unwrap() - widths.iter().min().unwrap() <= 1,
-        "{widths:?}"
-    );
-    assert!(
-        steps.iter().max().unwrap() - steps.iter().min().unwrap() <= 1,
-        "{steps:?}"
-    );
+    let widths = even_bars(&runs);
     assert!(
         widths[0] > lin[0][1] - lin[0][0] + 2,
         "{widths:?} against {lin:?}"
@@ -505,17 +507,7 @@ fn labels_in_a_margin_keep_their_width_and_the_plot_one_scale() {
     // The plot: five bars, evenly spaced and equally wide, none narrower than the linear
     // resize's.
     let (runs, lin) = (bar_runs(&out, 270), bar_runs(&linear, 270));
-    assert_eq!(runs.len(), 5, "{runs:?}");
-    let widths: Vec<u32> = runs.iter().map(|r| r[1] - r[0] + 1).collect();
-    let steps: Vec<u32> = runs.windows(2).map(|w| w[1][0] - w[0][0]).collect();
-    assert!(
-        widths.iter().max().unwrap() - widths.iter().min().unwrap() <= 1,
-        "{widths:?}"
-    );
-    assert!(
-        steps.iter().max().unwrap() - steps.iter().min().unwrap() <= 1,
-        "{steps:?}"
-    );
+    let widths = even_bars(&runs);
     assert!(
         widths[0] >= lin[0][1] - lin[0][0],
         "{widths:?} against {lin:?}"

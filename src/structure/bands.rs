@@ -87,9 +87,13 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     } else {
         scan(image, text, areas)
     };
-    let ground = ground(image);
+    // The ground is read only where a gap reaches the canvas' edge.
+    let at_edge = |g: &[u32; 2], n: u32| g[0] == 0 || g[1] == n;
+    let edges =
+        bands.gaps_x.iter().any(|g| at_edge(g, w)) || bands.gaps_y.iter().any(|g| at_edge(g, h));
+    let ground = if edges { ground(image) } else { [0; 3] };
     let page = |g: &&[u32; 2], n: u32, columns: bool| {
-        (g[0] == 0 || g[1] == n) && mostly_ground(image, **g, columns, ground)
+        at_edge(g, n) && mostly_ground(image, **g, columns, ground)
     };
     bands.margins_x = (bands.gaps_x.iter())
         .filter(|g| page(g, w, true))
@@ -137,7 +141,7 @@ fn mostly_ground(image: ImageRef<'_>, [a, b]: [u32; 2], columns: bool, ground: [
         image.height() as usize,
         image.pixels(),
     );
-    let is_ground = |p: &[u8; 4]| (0..3).all(|c| p[c].abs_diff(ground[c]) <= STEP);
+    let is_ground = |p: &[u8; 4]| !differs(*p, [ground[0], ground[1], ground[2], 255]);
     let (a, b) = (a as usize, b as usize);
     let (on, all) = match columns {
         true => (
@@ -175,10 +179,7 @@ fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
         }
     }
     let px = image.pixels();
-    let differs = |a: usize, b: usize| {
-        let (p, q) = (px[a], px[b]);
-        (0..3).any(|c| p[c].abs_diff(q[c]) > STEP)
-    };
+    let differs_at = |a: usize, b: usize| differs(px[a], px[b]);
     // steps_x[x]: a step between columns x - 1 (or x - 2) and x outside text.
     let (mut steps_x, mut steps_y) = (vec![false; w as usize + 1], vec![false; h as usize + 1]);
     for y in 0..h {
@@ -187,13 +188,14 @@ fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
             if in_text[i] {
                 continue;
             }
-            let left = |k: u32| x >= k && !in_text[i - k as usize] && differs(i, i - k as usize);
+            let left = |k: u32| x >= k && !in_text[i - k as usize] && differs_at(i, i - k as usize);
             if left(1) || left(2) {
                 steps_x[x as usize] = true;
                 steps_x[x as usize - 1] = true;
             }
             let wk = w as usize;
-            let up = |k: usize| y as usize >= k && !in_text[i - k * wk] && differs(i, i - k * wk);
+            let up =
+                |k: usize| y as usize >= k && !in_text[i - k * wk] && differs_at(i, i - k * wk);
             if up(1) || up(2) {
                 steps_y[y as usize] = true;
                 steps_y[y as usize - 1] = true;
@@ -220,6 +222,11 @@ fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
     }
 }
 
+/// Whether two pixels differ by more than [`STEP`] in some colour channel.
+fn differs(p: [u8; 4], q: [u8; 4]) -> bool {
+    (0..3).any(|c| p[c].abs_diff(q[c]) > STEP)
+}
+
 /// Whether column `x` lies inside a data area of `areas`.
 fn inside_x(areas: &[DataArea], x: u32) -> bool {
     areas.iter().any(|a| x as f64 > a.x0 && (x as f64) < a.x1)
@@ -235,7 +242,6 @@ fn inside_y(areas: &[DataArea], y: u32) -> bool {
 /// anything.
 fn step_across(image: ImageRef<'_>, i: u32, columns: bool) -> bool {
     let (w, px) = (image.width() as usize, image.pixels());
-    let differs = |p: [u8; 4], q: [u8; 4]| (0..3).any(|c| p[c].abs_diff(q[c]) > STEP);
     let i = i as usize;
     if columns {
         (0..image.height() as usize).any(|y| {

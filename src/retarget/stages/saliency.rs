@@ -60,19 +60,10 @@ impl SaliencyStage {
 
     /// A map whose planes no later stage holds any more (empty if none is free yet).
     fn recycled(&mut self, size: Size) -> Vsm {
-        let mut held = Vec::new();
-        let mut free = None;
-        while let Some(a) = self.spare.pop() {
-            match Arc::try_unwrap(a) {
-                Ok(v) => {
-                    free = Some(v);
-                    break;
-                }
-                Err(a) => held.push(a),
-            }
-        }
-        self.spare.extend(held.into_iter().rev());
-        free.unwrap_or_else(|| Vsm::empty(size))
+        // Held by this stage alone: no other stage can take a new reference to it.
+        let free = self.spare.iter().rposition(|a| Arc::strong_count(a) == 1);
+        free.and_then(|i| Arc::try_unwrap(self.spare.remove(i)).ok())
+            .unwrap_or_else(|| Vsm::empty(size))
     }
 
     /// The frame's saliency: of the whole visualization when it has vector marks (drawn into
