@@ -855,3 +855,41 @@ fn a_dense_tick_column_is_not_sideways_text() {
         assert!(text.iter().all(|b| !b.sideways), "pitch {pitch}: {text:?}");
     }
 }
+
+/// A title over a legend whose rings stack under its first letters is one upright line:
+/// the letters and the rings also read, turned, as a sideways "word", and that reading tore
+/// the title in two (map-scatter-02's). Of two readings of the same glyphs the longer line
+/// wins.
+#[test]
+fn a_title_over_stacked_rings_stays_one_line() {
+    for (size, pitch) in [(18.0f32, 0.0f32), (22.0, 2.0), (16.0, 4.0)] {
+        let mut img = Image::filled(Size::new(520, 260).unwrap(), [255; 4]);
+        draw_label(
+            &mut img,
+            30.0,
+            20.0,
+            size,
+            "Injurious Crashes in New York City, 2016",
+        );
+        // Legend rings of falling size, stacked (nearly touching) under the title's start.
+        let mut top = 20.0 + size * 1.15 + pitch;
+        for r in [18.0f32, 15.0, 12.0, 8.0] {
+            let (cx, cy) = (50.0, top + r);
+            for y in 0..260u32 {
+                for x in 0..520u32 {
+                    let d = ((x as f32 + 0.5 - cx).powi(2) + (y as f32 + 0.5 - cy).powi(2)).sqrt();
+                    if d <= r && d >= r - 1.5 {
+                        img.set(x, y, [0, 0, 0, 255]);
+                    }
+                }
+            }
+            top += 2.0 * r + pitch;
+        }
+        let text = Structure::detect(img.as_ref()).text;
+        let title: Vec<&TextBlock> = text.iter().filter(|b| b.y0 < 20 + size as u32).collect();
+        assert!(
+            title.len() == 1 && !title[0].sideways && title[0].x0 <= 32 && title[0].x1 >= 300,
+            "size {size}, pitch {pitch}: {text:?}"
+        );
+    }
+}

@@ -138,7 +138,14 @@ impl Structure {
             .into_iter()
             .filter(|s| {
                 let mut pieces = text.iter().filter(|u| touch(s, u)).peekable();
-                pieces.peek().is_none() || pieces_of_one_word(pieces, s)
+                // Of two readings of the same glyphs, the longer line wins: an upright line
+                // at least as long as the sideways "word" crosses its column, and its first
+                // letters with what stacks under them (a legend's rings) read turned.
+                let crossed = || {
+                    text.iter()
+                        .any(|u| touch(s, u) && u.x1 - u.x0 >= s.y1 - s.y0)
+                };
+                pieces.peek().is_none() || !crossed() && pieces_of_one_word(pieces, s)
             })
             .collect();
         // Where a sideways word was read in upright pieces, those pieces may have taken in a
