@@ -138,6 +138,8 @@ const MAX_MARK_ASPECT: f64 = 1.35;
 const MIN_MARK_FILL: f64 = 0.05;
 const MARK_CENTRED: f64 = 0.1;
 const SMALL_MARK_CELLS: f64 = 8.0;
+/// Most side, in map cells, of a blob too small to have a shape ([`MarkScan::blob_at`]).
+const SPECK_CELLS: f64 = 2.0;
 /// Share of its bounding box above which a blob is a rectangle: a bar or a cell, whose
 /// length is data read off the axis and must follow the area's map, not keep its shape.
 const RECTANGLE_FILL: f64 = 0.9;
@@ -757,22 +759,64 @@ fn ink_box(src: &Image, rect: [u32; 4], colour: [u8; 3], reach: u32) -> [u32; 4]
 
 /// Whether a blob of `colour` inside `rect` stands alone on a plain ground: the border of
 /// `rect` holds none of its colour (it does not run on beyond its box: a region of a map,
-/// a cluster) and at most two ground colours, bar a few pixels (a dot on the boundary of two
-/// regions, a thin line through it), so the ground painted in under it stays plain.
+/// a cluster) and at most [`GROUND_COLOURS`] colours with their antialiased blends, bar a
+/// few pixels (a dot on the boundary of two regions, a graph's node where lines of two
+/// colours meet it), so the ground painted in under it stays plain.
 fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     let counts = ring_colours(src, rect);
-    let all: u32 = counts.iter().map(|c| c.1).sum();
-    let mut grounds: Vec<u32> = Vec::with_capacity(counts.len());
-    for &(c, n) in &counts {
-        if same_colour(c, colour) {
-            return false;
-        }
-        grounds.push(n);
+    if counts.iter().any(|&(c, _)| same_colour(c, colour)) {
+        return false;
     }
-    grounds.sort_unstable_by(|a, b| b.cmp(a));
-    let two: u32 = grounds.iter().take(GROUND_COLOURS).sum();
-    two as f64 >= FLAT_GROUND * all.max(1) as f64
+    let all: u32 = counts.iter().map(|c| c.1).sum();
+    let mut inks = unblended(counts);
+    inks.sort_unstable_by(|a, b| b.1.cmp(&a.1));
+    let few: u32 = inks.iter().take(GROUND_COLOURS).map(|c| c.1).sum();
+    few as f64 >= FLAT_GROUND * all.max(1) as f64
 }
+
+/// Colours with their counts, each blend of two others (an antialiased edge between a line
+/// and the ground, where two lines cross) folded into the nearer of the two: the commonest
+/// colour first, then the others from the farthest from it, so that a line's pure colour
+/// comes before its paler edges.
+fn unblended(mut counts: Vec<([u8; 3], u32)>) -> Vec<([u8; 3], u32)> {
+    let dist = |a: [u8; 3], b: [u8; 3]| {
+        (0..3)
+            .map(|k| (a[k] as f64 - b[k] as f64).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let Some(first) = (0..counts.len()).max_by_key(|&i| counts[i].1) else {
+        return counts;
+    };
+    let ground = counts.swap_remove(first);
+    counts.sort_by(|a, b| dist(b.0, ground.0).total_cmp(&dist(a.0, ground.0)));
+    let mut inks = vec![ground];
+    for (c, n) in counts {
+        let between = (0..inks.len())
+            .flat_map(|i| (i + 1..inks.len()).map(move |j| (i, j)))
+            .find(|&(i, j)| {
+                let (a, b) = (inks[i].0, inks[j].0);
+                dist(a, c) + dist(c, b) <= dist(a, b) + BLEND_SLACK
+            });
+        match between {
+            Some((i, j)) => {
+                let near = if dist(inks[i].0, c) <= dist(inks[j].0, c) {
+                    i
+                } else {
+                    j
+                };
+                inks[near].1 += n;
+            }
+            None => inks.push((c, n)),
+        }
+    }
+    inks
+}
+
+/// How far (RGB distance, the detour from the straight path) a colour may lie off the line
+/// between two others to be their blend: antialiasing mixes along that line, up to the
+/// rounding and noise one colour group ([`SAME_COLOUR`]) already spans on either side.
+const BLEND_SLACK: f64 = SAME_COLOUR as f64 / 2.0;
 
 /// The colours on the border pixels of `[x0, y0, x1, y1)` (clipped to the picture), each with
 /// its pixel count; colours within [`SAME_COLOUR`] of each other count as one.
@@ -1049,11 +1093,15 @@ impl MarkScan<'_> {
         if rectangle && area.whole_canvas {
             return BlobKind::Mute;
         }
-        if !is_round(&blob, fill)
-            || bw.max(bh) > area.max_side
-            || rectangle
-            || (area.whole_canvas && !stands_alone(src, grown, colour))
-        {
+        let round = is_round(&blob, fill);
+        let alone = !area.whole_canvas || stands_alone(src, grown, colour);
+        // A blob two cells across or less has no shape at the map's resolution: a speck
+        // where a line meets a mark, antialiased to a blend of both, or a piece of a line
+        // in one of its antialiased shades, says nothing of its colour.
+        if cw.max(ch) <= SPECK_CELLS {
+            return BlobKind::Mute;
+        }
+        if !round || bw.max(bh) > area.max_side || rectangle || !alone {
             return BlobKind::Spoils;
         }
         let centre = DVec2::new(
@@ -1810,6 +1858,30 @@ mod tests {
         assert_eq!(keep_inside(85.0, 10, 20, 100), 80);
         assert_eq!(keep_inside(-3.4, 10, 20, 100), -3);
         assert_eq!(keep_inside(-14.0, 10, 120, 100), -14);
+    }
+
+    /// Antialiased edges fold into the line they edge, and a crossing of two lines into
+    /// one of them; a third ink that lies between none stays a colour of its own.
+    #[test]
+    fn blends_fold_into_their_inks() {
+        let (white, red, cyan) = ([255; 3], [248, 118, 109], [0, 191, 196]);
+        let pink = [251, 186, 182];
+        let crossing = [140, 150, 148];
+        let violet = [150, 40, 200];
+        let inks = unblended(vec![
+            (white, 40),
+            (pink, 9),
+            (red, 6),
+            (cyan, 5),
+            (crossing, 3),
+            (violet, 2),
+        ]);
+        let count = |c: [u8; 3]| inks.iter().find(|k| k.0 == c).map(|k| k.1);
+        assert_eq!(inks.len(), 4, "{inks:?}");
+        assert_eq!(count(white), Some(40));
+        assert_eq!(count(red), Some(6 + 9 + 3), "{inks:?}");
+        assert_eq!(count(violet), Some(2));
+        assert_eq!(count(pink), None);
     }
 
     #[test]
