@@ -769,7 +769,7 @@ fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     }
     let all: u32 = counts.iter().map(|c| c.1).sum();
     let mut inks = unblended(counts);
-    inks.sort_unstable_by(|a, b| b.1.cmp(&a.1));
+    inks.sort_unstable_by_key(|b| std::cmp::Reverse(b.1));
     let few: u32 = inks.iter().take(GROUND_COLOURS).map(|c| c.1).sum();
     few as f64 >= FLAT_GROUND * all.max(1) as f64
 }
