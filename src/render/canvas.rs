@@ -55,7 +55,7 @@ impl AxisMap {
         gaps: &[[u32; 2]],
         margins: &[[u32; 2]],
     ) -> AxisMap {
-        AxisMap::with_bands_at_most(n, m, [bands, gaps, margins], 1.0)
+        AxisMap::with_bands_at_most(n, m, [bands, gaps, margins], 1.0).0
     }
 
     /// The scales [`AxisMap::with_bands`] gives: `None` when the map is linear.
@@ -82,29 +82,19 @@ impl AxisMap {
             false => linear,
         };
         let grows = |s: f64| s > linear * (1.0 + 1e-6);
-        (grows(band) || grows(scale)).then_some(Scales {
-            band,
-            gap,
-            scale,
-            plot,
-        })
+        (grows(band) || grows(scale)).then_some(Scales { band, gap, scale })
     }
 
     /// [`AxisMap::with_bands`] with the plot's scale at most `most` (and at least the linear
-    /// resize's): the margins keep what the plot does not take.
-    fn with_bands_at_most(n: u32, m: u32, spans: Spans, most: f64) -> AxisMap {
-        let [bands, gaps, margins] = spans;
+    /// resize's): the margins keep what the plot does not take. Also the plot's scale.
+    fn with_bands_at_most(n: u32, m: u32, spans: Spans, most: f64) -> (AxisMap, f64) {
+        let linear = m as f64 / n as f64;
         let Some(Scales {
-            band,
-            gap,
-            scale,
-            plot,
+            band, gap, scale, ..
         }) = AxisMap::scales(n, m, spans)
         else {
-            return AxisMap::linear(n, m);
+            return (AxisMap::linear(n, m), linear);
         };
-        let (nf, mf) = (n as f64, m as f64);
-        let linear = mf / nf;
         let scale = scale.min(most).max(linear);
         // A plot a few percent larger is hardly seen; its margins pressed to the edge are.
         let scale = if scale >= linear * (1.0 + LEAST_GROWTH) {
@@ -113,8 +103,33 @@ impl AxisMap {
             linear
         };
         if band <= linear * (1.0 + 1e-6) && scale <= linear * (1.0 + 1e-6) {
-            return AxisMap::linear(n, m);
+            return (AxisMap::linear(n, m), linear);
         }
+        (AxisMap::with_scales(n, m, spans, [band, gap, scale]), scale)
+    }
+
+    /// `n` source pixels onto `m` with the plot narrowed to `scale`, below the linear
+    /// resize's, and the bands and the gaps beside them at the linear scale: the blank
+    /// margins at the canvas' edge take the rest. `None` without margins.
+    fn narrowed(n: u32, m: u32, spans: Spans, scale: f64) -> Option<AxisMap> {
+        let [_, gaps, margins] = spans;
+        let linear = m as f64 / n as f64;
+        (edge_gaps(gaps, margins).next().is_some() && scale < linear)
+            .then(|| AxisMap::with_scales(n, m, spans, [linear, linear, scale]))
+    }
+
+    /// The map with the bands at scale `band`, the gaps beside them at `gap`, the plot at
+    /// `scale` and the margins taking what is left of `m`.
+    pub(crate) fn with_scales(
+        n: u32,
+        m: u32,
+        spans: Spans,
+        [band, gap, scale]: [f64; 3],
+    ) -> AxisMap {
+        let [bands, gaps, margins] = spans;
+        let (nf, mf) = (n as f64, m as f64);
+        let linear = mf / nf;
+        let plot = nf - spanned(bands) - spanned(gaps);
         // The margins take what is left; the gaps beside bands keep `gap`.
         let kept = spanned(bands);
         let edges: Vec<[u32; 2]> = edge_gaps(gaps, margins).collect();
@@ -218,13 +233,11 @@ impl AxisMap {
     }
 }
 
-/// The scales of a map with bands: of its bands, of the gaps beside them, and of its plot
-/// (and how long the plot is, source pixels).
+/// The scales of a map with bands: of its bands, of the gaps beside them, and of its plot.
 struct Scales {
     band: f64,
     gap: f64,
     scale: f64,
-    plot: f64,
 }
 
 /// The bands, gaps and margins of one axis.
@@ -282,10 +295,20 @@ impl CanvasMap {
         let linear_aspect = (m[0] as f64 / n[0] as f64) / (m[1] as f64 / n[1] as f64);
         let (lo, hi) = (linear_aspect.min(1.0), linear_aspect.max(1.0));
         let most = [alone[1] * hi, alone[0] / lo];
-        let axis = |k: usize| AxisMap::with_bands_at_most(n[k], m[k], spans[k], most[k]);
+        let [(x, px), (y, py)] =
+            std::array::from_fn(|k| AxisMap::with_bands_at_most(n[k], m[k], spans[k], most[k]));
+        // Where the plot is stretched along one axis beside the other (a picture made lower
+        // but no narrower) and that axis has blank margins, the plot narrows to its own shape
+        // and the margins widen: a graph or a map keeps its shapes, as when drawn anew.
+        let narrow = |k: usize, own: f64, other: f64, map: AxisMap| {
+            if !b.free || own < other * (1.0 + LEAST_GROWTH) {
+                return map;
+            }
+            AxisMap::narrowed(n[k], m[k], spans[k], other).unwrap_or(map)
+        };
         CanvasMap {
-            x: axis(0),
-            y: axis(1),
+            x: narrow(0, px, py, x),
+            y: narrow(1, py, px, y),
         }
     }
 
@@ -410,6 +433,37 @@ mod tests {
         let both = CanvasMap::new(Some(&s), size, Size::new(500, 800).unwrap());
         let (sx, sy) = (both.x.slope(500.0), both.y.slope(500.0));
         assert!(sx > 0.5 && sy > 0.8 && sx <= sy + 1e-9, "{sx} {sy}");
+    }
+
+    #[test]
+    fn a_free_picture_made_lower_keeps_its_shape_in_wider_margins() {
+        let size = Size::new(1000, 600).unwrap();
+        let mut s = Structure::default();
+        s.bands.gaps_x = vec![[0, 300], [700, 1000]];
+        s.bands.margins_x = s.bands.gaps_x.clone();
+        s.bands.free = true;
+        let lower = Size::new(1000, 360).unwrap();
+        let map = CanvasMap::new(Some(&s), size, lower);
+        assert!(map.y.is_linear());
+        // The plot at the height's scale both ways, centred as the margins were.
+        for x in [320.0, 500.0, 680.0] {
+            assert!((map.x.slope(x) - 0.6).abs() < 1e-9, "{}", map.x.slope(x));
+        }
+        let (left, right) = (map.x.apply(300.0), 1000.0 - map.x.apply(700.0));
+        assert!(
+            (left - right).abs() <= 1.0 && left > 300.0,
+            "{left} {right}"
+        );
+        // A chart (a data area was found) is not made smaller than the linear resize draws
+        // it: its margins keep their share.
+        s.bands.free = false;
+        assert!(CanvasMap::new(Some(&s), size, lower).x.is_linear());
+        // Nor is a free picture without margins, or one whose shape barely changes.
+        s.bands.free = true;
+        let no_margins = Structure::default();
+        assert!(CanvasMap::new(Some(&no_margins), size, lower).x.is_linear());
+        let barely = Size::new(1000, 570).unwrap();
+        assert!(CanvasMap::new(Some(&s), size, barely).x.is_linear());
     }
 
     #[test]

@@ -270,6 +270,7 @@ fn resize_linear_on(src: ImageRef<'_>, target: Size, threads: Threads) -> Image 
         src,
         target,
         threads,
+        [tw != sw, th != sh],
         || Axis::new(sw, tw),
         || Axis::new(sh, th),
     )
@@ -304,25 +305,33 @@ pub(crate) fn resize_mapped_on(
         src,
         target,
         threads,
+        [
+            tw != sw || !map.x.is_linear(),
+            th != sh || !map.y.is_linear(),
+        ],
         || axis(sw, tw, &map.x),
         || axis(sh, th, &map.y),
     )
 }
 
 /// `src` resampled onto `target` by the taps `across()` (along rows) and `down()` (along
-/// columns), built only where that axis changes.
+/// columns), built only where that axis `changes`.
 fn resize_axes(
     src: ImageRef<'_>,
     target: Size,
     threads: Threads,
+    changes: [bool; 2],
     across: impl FnOnce() -> Axis,
     down: impl FnOnce() -> Axis,
 ) -> Image {
-    let (sw, sh) = (src.width() as usize, src.height() as usize);
-    let (tw, th) = (target.width as usize, target.height as usize);
+    let sh = src.height() as usize;
+    let tw = target.width as usize;
     let px = src.pixels();
     let mut out = Image::new(target);
-    let (across, down) = ((tw != sw || th == sh).then(across), (th != sh).then(down));
+    let (across, down) = (
+        (changes[0] || !changes[1]).then(across),
+        changes[1].then(down),
+    );
     let Some(down) = down else {
         // Across only, rounded straight into the output.
         let across = across.expect("an axis changes").padded();
@@ -453,6 +462,36 @@ mod tests {
                 "column {x}"
             );
         }
+    }
+
+    /// An axis whose length stays but whose map does not (a free picture's plot narrowed
+    /// into wider margins) is resampled by its map, not copied.
+    #[test]
+    fn an_axis_of_the_same_length_follows_its_map() {
+        let size = Size::new(100, 40).unwrap();
+        let mut img = Image::filled(size, [255; 4]);
+        for y in 0..40 {
+            for x in 30..32 {
+                img.set(x, y, [0, 0, 0, 255]);
+            }
+        }
+        let map = CanvasMap {
+            x: AxisMap::with_scales(
+                100,
+                100,
+                [&[], &[[0, 20], [80, 100]], &[[0, 20], [80, 100]]],
+                [1.0, 1.0, 0.5],
+            ),
+            y: AxisMap::linear(40, 20),
+        };
+        let out = resize_mapped(img.as_ref(), Size::new(100, 20).unwrap(), &map);
+        let darkest = (0..100).min_by_key(|&x| out.get(x, 10)[0]).unwrap();
+        let want = map.x.apply(31.0);
+        assert!(
+            (darkest as f64 + 0.5 - want).abs() <= 1.0,
+            "{darkest} {want}"
+        );
+        assert!((want - 31.0).abs() > 3.0, "the map moves the line");
     }
 
     #[test]

@@ -37,6 +37,9 @@ pub struct Bands {
     pub gaps_y: Vec<[u32; 2]>,
     pub margins_x: Vec<[u32; 2]>,
     pub margins_y: Vec<[u32; 2]>,
+    /// No data area was found (no axes, frame, grid or bars): the picture is read by its
+    /// shapes (a map, a node-link graph), which its plot keeps where the margins make room.
+    pub free: bool,
 }
 
 impl Bands {
@@ -52,6 +55,7 @@ impl Bands {
             gaps_y: common(&self.gaps_y, &before.gaps_y),
             margins_x: common(&self.margins_x, &before.margins_x),
             margins_y: common(&self.margins_y, &before.margins_y),
+            free: self.free && before.free,
         }
     }
 }
@@ -103,6 +107,7 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         .filter(|g| page(g, h, false))
         .copied()
         .collect();
+    bands.free = areas.is_empty();
     bands
 }
 
@@ -520,6 +525,7 @@ mod tests {
             gaps_y: vec![[20, 30]],
             margins_x: vec![[0, 10]],
             margins_y: Vec::new(),
+            free: true,
         };
         let transient = Bands {
             x: vec![[10, 40]],
@@ -528,9 +534,11 @@ mod tests {
             gaps_y: vec![[20, 30]],
             margins_x: Vec::new(),
             margins_y: Vec::new(),
+            free: false,
         };
         let kept = transient.kept(&first);
         assert!(kept.margins_x.is_empty(), "a margin lost is lost");
+        assert!(!kept.free, "a frame with axes makes the stream a chart");
         assert_eq!(kept.y, vec![[0, 20]]);
         let again = first.kept(&kept);
         assert_eq!(again, kept, "the lost band stays lost");
