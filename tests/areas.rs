@@ -593,8 +593,17 @@ fn nodes_where_lines_of_two_colours_meet_stay_round() {
         .unwrap()
         .image;
     // Each node's box: the 8-connected blobs of dark pixels, one per node.
+    let boxes = dark_blobs(&out, |p| p[..3].iter().all(|&v| v < 90));
+    assert_eq!(boxes.len(), nodes.len(), "{boxes:?}");
+    for &(bw, bh) in &boxes {
+        assert!(bw.abs_diff(bh) <= 1 && bw >= 6, "nodes {boxes:?}");
+    }
+}
+
+/// The sizes `(w, h)` of the boxes of the 8-connected blobs of pixels of `out` that are `ink`.
+fn dark_blobs(out: &Image, ink: impl Fn([u8; 4]) -> bool) -> Vec<(u32, u32)> {
     let (w, h) = (out.width(), out.height());
-    let dark = |x: u32, y: u32| out.get(x, y)[..3].iter().all(|&v| v < 90);
+    let dark = |x: u32, y: u32| ink(out.get(x, y));
     let mut seen = vec![false; (w * h) as usize];
     let mut boxes = Vec::new();
     for start in 0..w * h {
@@ -620,8 +629,5 @@ fn nodes_where_lines_of_two_colours_meet_stay_round() {
         }
         boxes.push((b[2] - b[0], b[3] - b[1]));
     }
-    assert_eq!(boxes.len(), nodes.len(), "{boxes:?}");
-    for &(bw, bh) in &boxes {
-        assert!(bw.abs_diff(bh) <= 1 && bw >= 6, "nodes {boxes:?}");
-    }
+    boxes
 }

@@ -138,8 +138,8 @@ const MAX_MARK_ASPECT: f64 = 1.35;
 const MIN_MARK_FILL: f64 = 0.05;
 const MARK_CENTRED: f64 = 0.1;
 const SMALL_MARK_CELLS: f64 = 8.0;
-/// Most side, in map cells, of a blob too small to have a shape ([`MarkScan::blob_at`]).
-const SPECK_CELLS: f64 = 2.0;
+/// Most cells of a blob too small to have a shape ([`MarkScan::blob_at`]): two by two.
+const SPECK_CELLS: usize = 4;
 /// Share of its bounding box above which a blob is a rectangle: a bar or a cell, whose
 /// length is data read off the axis and must follow the area's map, not keep its shape.
 const RECTANGLE_FILL: f64 = 0.9;
@@ -1095,10 +1095,11 @@ impl MarkScan<'_> {
         }
         let round = is_round(&blob, fill);
         let alone = !area.whole_canvas || stands_alone(src, grown, colour);
-        // A blob two cells across or less has no shape at the map's resolution: a speck
-        // where a line meets a mark, antialiased to a blend of both, or a piece of a line
-        // in one of its antialiased shades, says nothing of its colour.
-        if cw.max(ch) <= SPECK_CELLS {
+        // A blob of a few cells has no shape at the map's resolution: a speck where a line
+        // meets a mark, antialiased to a blend of both, a piece of a line in one of its
+        // antialiased shades, or a mark's pale rim that the scan reached first, says nothing
+        // of its colour.
+        if blob.count <= SPECK_CELLS {
             return BlobKind::Mute;
         }
         if !round || bw.max(bh) > area.max_side || rectangle || !alone {
@@ -2099,6 +2100,62 @@ mod tests {
                 "{second:?}: {marks:?}"
             );
         }
+    }
+
+    /// A dot's pale top rim, which the scan reaches before its core, is a sliver of three
+    /// cells near the core's edge colour: it has no shape to judge, so it spoils none of
+    /// the dots (make_charts seed 11's scatter kept them all squeezed).
+    #[test]
+    fn a_dots_rim_reached_first_spoils_no_dot() {
+        // A matplotlib dot's coverage, in sixteenths (r ≈ 5.4 px on pixel centres).
+        const DOT: [[u8; 11]; 11] = [
+            [0, 0, 0, 5, 11, 12, 11, 5, 0, 0, 0],
+            [0, 2, 13, 16, 16, 16, 16, 16, 13, 2, 0],
+            [0, 13, 16, 16, 16, 16, 16, 16, 16, 13, 0],
+            [5, 16, 16, 16, 16, 16, 16, 16, 16, 16, 5],
+            [11, 16, 16, 16, 16, 16, 16, 16, 16, 16, 11],
+            [12, 16, 16, 16, 16, 16, 16, 16, 16, 16, 12],
+            [11, 16, 16, 16, 16, 16, 16, 16, 16, 16, 11],
+            [5, 16, 16, 16, 16, 16, 16, 16, 16, 16, 5],
+            [0, 13, 16, 16, 16, 16, 16, 16, 16, 13, 0],
+            [0, 2, 13, 16, 16, 16, 16, 16, 13, 2, 0],
+            [0, 0, 0, 5, 11, 12, 11, 5, 0, 0, 0],
+        ];
+        let (w, h) = (80usize, 40usize);
+        let mut img = Image::filled(Size::new(w as u32, h as u32).unwrap(), [255; 4]);
+        // Importance: a colour's distance from white, as a share of the dot's own.
+        let mut imp = vec![0f32; w * h];
+        for left in [10usize, 40] {
+            for (dy, row) in DOT.iter().enumerate() {
+                for (dx, &c) in row.iter().enumerate() {
+                    let a = c as f32 / 16.0;
+                    let v = |k: f32| (255.0 * (1.0 - a) + k * a).round() as u8;
+                    let (x, y) = (left + dx, 14 + dy);
+                    img.set(x as u32, y as u32, [v(214.0), v(39.0), v(40.0), 255]);
+                    imp[y * w + x] = a;
+                }
+            }
+        }
+        let canvas = crate::structure::DataArea {
+            x0: 1.0,
+            y0: 1.0,
+            x1: w as f64 - 1.0,
+            y1: h as f64 - 1.0,
+            kind: crate::structure::AreaKind::Canvas,
+        };
+        let mut scan = MarkScan {
+            src: &img,
+            text: Vec::new(),
+            s: 1.0,
+            gw: w,
+            gh: h,
+            imp: &imp,
+            seen: vec![false; w * h],
+            stack: Vec::new(),
+        };
+        let mut out = Vec::new();
+        scan.area(0, &canvas, &mut out);
+        assert_eq!(out.len(), 2, "{out:?}");
     }
 
     #[test]
