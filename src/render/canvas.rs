@@ -109,13 +109,16 @@ impl AxisMap {
     }
 
     /// `n` source pixels onto `m` with the plot narrowed to `scale`, below the linear
-    /// resize's, and the bands and the gaps beside them at the linear scale: the blank
-    /// margins at the canvas' edge take the rest. `None` without margins.
+    /// resize's, the bands and the gaps beside them as [`AxisMap::with_bands`] has them: the
+    /// blank margins at the canvas' edge take the rest (more than they had, as the plot
+    /// takes less). `None` without margins.
     fn narrowed(n: u32, m: u32, spans: Spans, scale: f64) -> Option<AxisMap> {
         let [_, gaps, margins] = spans;
         let linear = m as f64 / n as f64;
+        let [band, gap] =
+            AxisMap::scales(n, m, spans).map_or([linear, linear], |s| [s.band, s.gap]);
         (edge_gaps(gaps, margins).next().is_some() && scale < linear)
-            .then(|| AxisMap::with_scales(n, m, spans, [linear, linear, scale]))
+            .then(|| AxisMap::with_scales(n, m, spans, [band, gap, scale]))
     }
 
     /// The map with the bands at scale `band`, the gaps beside them at `gap`, the plot at
@@ -464,6 +467,25 @@ mod tests {
         assert!(CanvasMap::new(Some(&no_margins), size, lower).x.is_linear());
         let barely = Size::new(1000, 570).unwrap();
         assert!(CanvasMap::new(Some(&s), size, barely).x.is_linear());
+    }
+
+    #[test]
+    fn a_narrowed_plot_leaves_its_text_bands_their_size() {
+        // A title band at the top, the space under it, and a blank page at the bottom.
+        let size = Size::new(1000, 1000).unwrap();
+        let mut s = Structure::default();
+        s.bands.y = vec![[0, 40]];
+        s.bands.gaps_y = vec![[40, 60], [850, 1000]];
+        s.bands.margins_y = vec![[850, 1000]];
+        s.bands.free = true;
+        let map = CanvasMap::new(Some(&s), size, Size::new(500, 800).unwrap());
+        let (band, plot) = (map.y.slope(20.0), map.y.slope(500.0));
+        assert!((plot - 0.5).abs() < 1e-9, "{plot}");
+        assert!(
+            band > 0.8,
+            "the title keeps more than the linear scale: {band}"
+        );
+        assert_eq!(map.y.apply(1000.0), 800.0);
     }
 
     #[test]
