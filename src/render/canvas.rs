@@ -117,7 +117,8 @@ impl AxisMap {
         let linear = m as f64 / n as f64;
         let [band, gap] =
             AxisMap::scales(n, m, spans).map_or([linear, linear], |s| [s.band, s.gap]);
-        (edge_gaps(gaps, margins).next().is_some() && scale < linear)
+        let edge = spanned(&edge_gaps(gaps, margins).collect::<Vec<_>>());
+        (edge > 0.0 && scale < linear)
             .then(|| AxisMap::with_scales(n, m, spans, [band, gap, scale]))
     }
 
@@ -303,11 +304,16 @@ impl CanvasMap {
         // Where the plot is stretched along one axis beside the other (a picture made lower
         // but no narrower) and that axis has blank margins, the plot narrows to its own shape
         // and the margins widen: a graph or a map keeps its shapes, as when drawn anew.
+        // (A plot grown into its margins beyond the other axis' scale grows only to it.)
         let narrow = |k: usize, own: f64, other: f64, map: AxisMap| {
             if !b.free || own < other * (1.0 + LEAST_GROWTH) {
                 return map;
             }
-            AxisMap::narrowed(n[k], m[k], spans[k], other).unwrap_or(map)
+            let linear = m[k] as f64 / n[k] as f64;
+            match other < linear {
+                true => AxisMap::narrowed(n[k], m[k], spans[k], other).unwrap_or(map),
+                false => AxisMap::with_bands_at_most(n[k], m[k], spans[k], other).0,
+            }
         };
         CanvasMap {
             x: narrow(0, px, py, x),
@@ -452,11 +458,13 @@ mod tests {
         for x in [320.0, 500.0, 680.0] {
             assert!((map.x.slope(x) - 0.6).abs() < 1e-9, "{}", map.x.slope(x));
         }
+        // 400 px of plot at 0.6 leave 760 px to the two 300 px margins alike: 380 each.
         let (left, right) = (map.x.apply(300.0), 1000.0 - map.x.apply(700.0));
         assert!(
-            (left - right).abs() <= 1.0 && left > 300.0,
+            (left - 380.0).abs() <= 1.0 && (right - 380.0).abs() <= 1.0,
             "{left} {right}"
         );
+        assert_eq!(map.x.apply(1000.0), 1000.0);
         // A chart (a data area was found) is not made smaller than the linear resize draws
         // it: its margins keep their share.
         s.bands.free = false;

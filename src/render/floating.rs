@@ -759,9 +759,10 @@ fn ink_box(src: &Image, rect: [u32; 4], colour: [u8; 3], reach: u32) -> [u32; 4]
 
 /// Whether a blob of `colour` inside `rect` stands alone on a plain ground: the border of
 /// `rect` holds none of its colour (it does not run on beyond its box: a region of a map,
-/// a cluster) and at most [`GROUND_COLOURS`] colours with their antialiased blends, bar a
-/// few pixels (a dot on the boundary of two regions, a graph's node where lines of two
-/// colours meet it), so the ground painted in under it stays plain.
+/// a cluster) and, bar a few pixels, at most [`GROUND_COLOURS`] colours once their
+/// antialiased blends are folded in ([`unblended`]): a dot on the boundary of two regions,
+/// a graph's node where lines of two colours meet it. So the ground painted in under it
+/// stays plain.
 fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     let counts = ring_colours(src, rect);
     if counts.iter().any(|&(c, _)| same_colour(c, colour)) {
@@ -1093,8 +1094,6 @@ impl MarkScan<'_> {
         if rectangle && area.whole_canvas {
             return BlobKind::Mute;
         }
-        let round = is_round(&blob, fill);
-        let alone = !area.whole_canvas || stands_alone(src, grown, colour);
         // A blob of a few cells has no shape at the map's resolution: a speck where a line
         // meets a mark, antialiased to a blend of both, a piece of a line in one of its
         // antialiased shades, or a mark's pale rim that the scan reached first, says nothing
@@ -1102,7 +1101,11 @@ impl MarkScan<'_> {
         if blob.count <= SPECK_CELLS {
             return BlobKind::Mute;
         }
-        if !round || bw.max(bh) > area.max_side || rectangle || !alone {
+        if !is_round(&blob, fill)
+            || bw.max(bh) > area.max_side
+            || rectangle
+            || (area.whole_canvas && !stands_alone(src, grown, colour))
+        {
             return BlobKind::Spoils;
         }
         let centre = DVec2::new(
@@ -1881,6 +1884,7 @@ mod tests {
         assert_eq!(inks.len(), 4, "{inks:?}");
         assert_eq!(count(white), Some(40));
         assert_eq!(count(red), Some(6 + 9 + 3), "{inks:?}");
+        assert_eq!(count(cyan), Some(5), "{inks:?}");
         assert_eq!(count(violet), Some(2));
         assert_eq!(count(pink), None);
     }

@@ -139,11 +139,13 @@ impl Structure {
             .filter(|s| {
                 let mut pieces = text.iter().filter(|u| touch(s, u)).peekable();
                 // Of two readings of the same glyphs, the longer line wins: an upright line
-                // at least as long as the sideways "word" crosses its column, and its first
-                // letters with what stacks under them (a legend's rings) read turned.
+                // across the sideways "word"'s column, at least as long as it, is a line
+                // whose first letters, with what stacks under them (a legend's rings), read
+                // turned.
                 let crossed = || {
-                    text.iter()
-                        .any(|u| touch(s, u) && u.x1 - u.x0 >= s.y1 - s.y0)
+                    text.iter().any(|u| {
+                        touch(s, u) && u.x0 <= s.x0 && u.x1 >= s.x1 && u.x1 - u.x0 >= s.y1 - s.y0
+                    })
                 };
                 pieces.peek().is_none() || !crossed() && pieces_of_one_word(pieces, s)
             })
