@@ -56,6 +56,7 @@ mod raster;
 mod render;
 mod retarget;
 mod saliency;
+mod simd;
 mod size;
 mod solve;
 mod structure;

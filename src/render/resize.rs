@@ -257,29 +257,8 @@ fn quantize(v: f32) -> u8 {
     unsafe { o.to_int_unchecked::<i32>() as u8 }
 }
 
-/// Defines `fn $name(args)` as `$body(args)` compiled for AVX where the processor has it:
-/// eight floats to an instruction instead of four. The same operations in the same order, so
-/// the same bytes either way (no fused multiply-add, which rounds once where a product and a
-/// sum round twice). `$body` must be `#[inline(always)]` to be compiled into the AVX copy.
-macro_rules! with_avx {
-    ($(#[$m:meta])* fn $name:ident($($a:ident: $t:ty),* $(,)?) => $body:ident) => {
-        $(#[$m])*
-        fn $name($($a: $t),*) {
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx") {
-                #[target_feature(enable = "avx")]
-                fn avx($($a: $t),*) {
-                    $body($($a),*)
-                }
-                // SAFETY: the processor has AVX, checked just above.
-                return unsafe { avx($($a),*) };
-            }
-            $body($($a),*)
-        }
-    };
-}
-
-with_avx! {
+crate::simd::with_feature! {
+    "avx";
     /// Rows `first..` of `px` resampled across into `band`'s rows, rounded.
     fn across_rounded(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[u8; 4]])
         => across_rounded_body
@@ -293,7 +272,8 @@ fn across_rounded_body(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [
     })
 }
 
-with_avx! {
+crate::simd::with_feature! {
+    "avx";
     /// Rows `first..` of `px` resampled across into `band`'s rows, kept in floats.
     fn across_floats(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[f32; 4]])
         => across_floats_body
@@ -307,7 +287,8 @@ fn across_floats_body(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[
     })
 }
 
-with_avx! {
+crate::simd::with_feature! {
+    "avx";
     /// Output rows `first..` (`band`, rows of `tw`) resampled down from `mid`'s rows, a whole
     /// row of taps at a time (a column at a time strides through `mid`), rounded.
     fn down_rounded(down: &Axis, mid: &[[f32; 4]], tw: usize, first: usize, band: &mut [[u8; 4]])

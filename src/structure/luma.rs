@@ -3,8 +3,14 @@
 
 use crate::image::ImageRef;
 
-/// Rec. 601 luma of every pixel (over white), row-major.
-pub(crate) fn luma(image: ImageRef<'_>, out: &mut Vec<u8>) {
+crate::simd::with_feature! {
+    "avx2";
+    /// Rec. 601 luma of every pixel (over white), row-major.
+    pub(crate) fn luma(image: ImageRef<'_>, out: &mut Vec<u8>) => luma_body
+}
+
+#[inline(always)]
+fn luma_body(image: ImageRef<'_>, out: &mut Vec<u8>) {
     // Sized first, then one loop over both slices, in 16-bit lanes (every term fits): it runs
     // in vectors, where `extend` from a mapped iterator went pixel by pixel.
     out.clear();
@@ -91,6 +97,30 @@ mod tests {
                     assert_eq!(t[x * h + y], l[y * w + x], "{w}x{h} at ({x}, {y})");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn every_build_of_the_luma_gives_the_formulas_bytes() {
+        let (w, h) = (37u32, 23u32);
+        let mut s = 0x9e37_79b9u32;
+        let px: Vec<[u8; 4]> = (0..w * h)
+            .map(|_| {
+                s ^= s << 13;
+                s ^= s >> 17;
+                s ^= s << 5;
+                s.to_le_bytes()
+            })
+            .collect();
+        let image = ImageRef::new(crate::image::Size::new(w, h).unwrap(), &px).unwrap();
+        let (mut wide, mut base) = (Vec::new(), Vec::new());
+        luma(image, &mut wide);
+        luma_body(image, &mut base);
+        assert_eq!(wide, base);
+        for (&o, p) in wide.iter().zip(&px) {
+            let y = (p[0] as u32 * 77 + p[1] as u32 * 150 + p[2] as u32 * 29) >> 8;
+            let a = p[3] as u32;
+            assert_eq!(o as u32, (y * a + 255 * (255 - a) + 127) / 255);
         }
     }
 
