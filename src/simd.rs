@@ -8,13 +8,13 @@
 /// multiply-adds out (they round once where a product and a sum round twice). `$body` must be
 /// `#[inline(always)]` to be compiled into the wider copy.
 macro_rules! with_feature {
-    ($feature:tt; $(#[$m:meta])* $vis:vis fn $name:ident($($a:ident: $t:ty),* $(,)?) => $body:ident) => {
+    ($feature:tt; $(#[$m:meta])* $vis:vis fn $name:ident($($a:ident: $t:ty),* $(,)?) $(-> $r:ty)? => $body:ident) => {
         $(#[$m])*
-        $vis fn $name($($a: $t),*) {
+        $vis fn $name($($a: $t),*) $(-> $r)? {
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!($feature) {
                 #[target_feature(enable = $feature)]
-                fn wide($($a: $t),*) {
+                fn wide($($a: $t),*) $(-> $r)? {
                     $body($($a),*)
                 }
                 // SAFETY: the processor has the feature, checked just above.
