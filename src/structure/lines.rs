@@ -75,7 +75,7 @@ pub struct Line {
 
 /// What is found along one direction (edge runs, then lines): solid runs, chains of short
 /// runs, and weak runs (see [`edge_runs`]).
-#[derive(Default)]
+#[derive(Default, Debug, PartialEq)]
 pub(crate) struct Found<T = Line> {
     pub solid: Vec<T>,
     /// Rows of short collinear edges with small gaps: a waffle's cell tops.
@@ -84,8 +84,14 @@ pub(crate) struct Found<T = Line> {
     pub weak: Vec<T>,
 }
 
-/// Horizontal lines of a `w × h` luminance image.
-pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found {
+crate::simd::with_feature! {
+    "avx2";
+    /// Horizontal lines of a `w × h` luminance image.
+    pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found => horizontal_body
+}
+
+#[inline(always)]
+fn horizontal_body(l: &[u8], w: usize, h: usize) -> Found {
     let runs = edge_runs(h, w, |b, steps| {
         // boundary b between rows b-1 and b: the step down it
         let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
@@ -121,6 +127,7 @@ type EdgeRun = (u32, u32, u32, bool);
 ///   light grid lines and panel frames (a plot's white grid on grey, a #eee border), long
 ///   enough not to be a texture's edges. A weak run mostly of solid pieces, none of them
 ///   most of it, replaces them as one solid run: a line cut where lines of its colour cross.
+#[inline(always)]
 fn edge_runs(n_boundaries: usize, len: usize, edge: impl Fn(usize, &mut [i16])) -> Found<EdgeRun> {
     let min_len = min_length(len, n_boundaries);
     let strokes = Strokes::new(n_boundaries, len, min_len as usize, &edge);
@@ -219,6 +226,7 @@ impl Strokes {
     /// Most tiles are clean ground, where half the steps or more are too small to raise the
     /// bar above [`STROKE_STEP`]: counting those decides them. Only the textured rest needs
     /// its median, from a histogram of a second pass over its rows.
+    #[inline(always)]
     fn new(
         n_boundaries: usize,
         len: usize,
@@ -278,6 +286,7 @@ impl Strokes {
     }
 
     /// Marks where a step along boundary `b` is a stroke's side.
+    #[inline(always)]
     fn mark(&self, b: usize, steps: &[i16], stroke: &mut [u8]) {
         let row = &self.least[b / self.tile * self.cols..][..self.cols];
         let tiles = stroke.chunks_mut(self.tile).zip(steps.chunks(self.tile));
@@ -410,6 +419,34 @@ fn pair_thin(mut edges: Vec<EdgeRun>) -> Vec<Line> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A grey ground with noise, strokes and boxes: lines of every kind, and texture.
+    fn busy_luma(w: usize, h: usize) -> Vec<u8> {
+        let mut v = 0x1234_5678u32;
+        (0..w * h)
+            .map(|i| {
+                v ^= v << 13;
+                v ^= v >> 17;
+                v ^= v << 5;
+                let (x, y) = (i % w, i / w);
+                let noise = (v >> 28) as u8;
+                match (x, y) {
+                    _ if y % 37 == 5 && x > 20 => 30,
+                    _ if x % 53 == 9 && y > 10 => 60,
+                    _ if (x / 11 + y / 7) % 9 == 0 => 200 - noise,
+                    _ => 235 + noise,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_build_finds_the_same_lines() {
+        let (w, h) = (203, 151);
+        let l = busy_luma(w, h);
+        assert_eq!(horizontal(&l, w, h), horizontal_body(&l, w, h));
+        assert!(!horizontal(&l, w, h).solid.is_empty());
+    }
 
     #[test]
     fn a_thin_line_is_one_line_through_its_middle_and_an_edge_stays_an_edge() {
