@@ -1172,7 +1172,11 @@ fn median_importance(imp: &[f32], gw: usize, [c0, r0, c1, r1]: [usize; 4]) -> f3
         for (j, &v) in row.iter().enumerate() {
             // Selects, not `clamp` (which checks its bounds every call); NaN is 0 either way.
             let v = if v > 0.0 { v } else { 0.0 };
-            hist[j & 3][(if v < 1.0 { v } else { 1.0 } * 255.0) as usize] += 1;
+            let v = if v < 1.0 { v } else { 1.0 } * 255.0;
+            // SAFETY: `v` lies in [0, 255]: it fits, and truncating it is the checked cast's
+            // result (which tests each value's range again, most of this loop's time).
+            let k = unsafe { v.to_int_unchecked::<u32>() } as usize;
+            hist[j & 3][k & 255] += 1;
         }
         n += row.len() as u32;
     }
@@ -1807,6 +1811,38 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn the_median_importance_is_the_middle_cells_256th() {
+        let (gw, gh) = (23, 11);
+        let mut v = 0x0bad_5eedu32;
+        let mut imp: Vec<f32> = (0..gw * gh)
+            .map(|_| {
+                v ^= v << 13;
+                v ^= v >> 17;
+                v ^= v << 5;
+                (v >> 8) as f32 / (1 << 24) as f32 * 1.2 - 0.1
+            })
+            .collect();
+        imp[5] = f32::NAN;
+        let window = [2, 1, 19, 10];
+        let mut levels: Vec<u32> = (1..10)
+            .flat_map(|r| (2..19).map(move |c| r * gw + c))
+            .map(|i| {
+                let v = imp[i];
+                if v.is_nan() {
+                    0
+                } else {
+                    (v.clamp(0.0, 1.0) * 255.0) as u32
+                }
+            })
+            .collect();
+        levels.sort_unstable();
+        // The first level at or past which more than half the cells lie.
+        let want = levels[levels.len() / 2];
+        assert_eq!(median_importance(&imp, gw, window), want as f32 / 255.0);
+        assert_eq!(median_importance(&imp, gw, [3, 3, 3, 5]), 0.0);
+    }
     use crate::structure::{AreaKind, DataArea, Structure};
 
     const INK: [u8; 4] = [0, 0, 0, 255];
