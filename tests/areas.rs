@@ -324,6 +324,22 @@ fn fit(pairs: &[(f64, f64)]) -> (f64, f64, f64) {
 /// float, and all come out as the plot's ellipses (judged blind, round and squeezed marks
 /// side by side read worse than all squeezed).
 #[test]
+fn the_importance_alone_draws_what_the_whole_map_draws() {
+    // Without the analysis kept, a canvas taken whole gets the importance alone (the blobs
+    // its marks float by); kept, the whole map. The pictures must not differ.
+    for seed in [3, 11, 29] {
+        let (img, _) = scatter(seed, &[5.0, 9.0, 14.0, 6.0, 11.0]);
+        for target in [Size::new(300, 380).unwrap(), Size::new(600, 200).unwrap()] {
+            let lite = retarget(&img, target, &Options::default()).unwrap();
+            let whole = retarget(&img, target, &Options::default().with_analysis(true)).unwrap();
+            assert!(whole.analysis.is_some() && lite.analysis.is_none());
+            assert!(lite.stats.floated > 0, "the dots float");
+            assert!(lite.image == whole.image, "seed {seed} at {target:?}");
+        }
+    }
+}
+
+#[test]
 fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
     let radii = [5.0, 8.0, 12.0, 16.0, 20.0, 7.0, 10.0, 14.0];
     let target = Size::new(300, 380).unwrap();

@@ -329,6 +329,57 @@ impl VsmBuilder {
         vsm.norm = Some(Box::new(norm));
     }
 
+    /// The importance alone (Eq. 1–2, normalized as [`VsmBuilder::build_into`] does), into
+    /// `vsm`'s planes: `values` is the importance too, `edges` zero, and the map has no
+    /// constants (a region update rebuilds it). What a canvas taken whole reads of its map (the
+    /// blobs of its floating marks, and whether a frame changed) for under half the cost of a
+    /// whole map: no Sobel, dilation or second-region boost.
+    pub(crate) fn build_importance_into(&mut self, image: ImageRef<'_>, vsm: &mut Vsm) {
+        let size = image.size();
+        let step = self.scale_for(size);
+        let grid = grid_of(size, step);
+        let mut crop = std::mem::take(&mut self.crop);
+        let cref = if step == 1 {
+            image
+        } else {
+            let cells = Rect {
+                x0: 0,
+                y0: 0,
+                x1: grid.width,
+                y1: grid.height,
+            };
+            downsample(image, cells, step, &mut crop);
+            ImageRef::new(grid, &crop).expect("grid size")
+        };
+        let (w, h) = (grid.width as usize, grid.height as usize);
+        let n = (w * h) as f64;
+        let sum = self.lab.convert_all(cref.pixels(), &mut self.features);
+        if self.lab_only {
+            self.features[3].fill(0.0);
+        }
+        let mean = [0, 1, 2, 3].map(|k| match k {
+            3 if self.lab_only => 0.0,
+            _ => (sum[k] / n) as f32,
+        });
+        let imp_max = frequency_tuned::importance(
+            &self.features,
+            w,
+            h,
+            mean,
+            &mut self.ring,
+            &mut vsm.importance,
+        );
+        scale(&mut vsm.importance, imp_max.max(IMPORTANCE_FLOOR));
+        vsm.values.clone_from(&vsm.importance);
+        vsm.edges.clear();
+        vsm.edges.resize(grid.area(), 0.0);
+        self.crop = crop;
+        vsm.size = size;
+        vsm.grid = grid;
+        vsm.scale = step;
+        vsm.norm = None;
+    }
+
     /// Recomputes `vsm` inside `rect` (image pixels) from `image`, a later frame of the same
     /// size, with the constants `vsm` was built with: inside the rect's map cells the result
     /// equals what a full build with those constants would give. Maps without constants, or of
@@ -714,6 +765,28 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_importance_alone_is_the_whole_maps_importance() {
+        let mut img = disc_image(900, 700, 300.0, 400.0, 120.0, [200, 40, 40, 255], [250; 4]);
+        img.set(700, 100, [10, 10, 10, 255]);
+        let full = VsmBuilder::new().build(img.as_ref());
+        let mut lite = Vsm::empty(img.size());
+        // Planes of another map first: nothing of them may stay.
+        lite.values = vec![7.0; 5];
+        lite.edges = vec![3.0; 100_000];
+        VsmBuilder::new().build_importance_into(img.as_ref(), &mut lite);
+        assert_eq!(lite.importance(), full.importance());
+        assert_eq!(lite.values(), full.importance());
+        assert_eq!(lite.edges().len(), full.edges().len());
+        assert!(lite.edges().iter().all(|&e| e == 0.0));
+        assert_eq!(
+            (lite.size(), lite.grid_size()),
+            (full.size(), full.grid_size())
+        );
+        assert!(lite.norm().is_none() && full.norm().is_some());
+        assert_eq!(lite.scale(), 2, "a map at half resolution");
     }
 
     #[test]

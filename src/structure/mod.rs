@@ -97,7 +97,14 @@ fn pieces_of_one_word<'a>(pieces: impl Iterator<Item = &'a TextBlock>, word: &Te
 }
 
 /// Least canvas side (pixels) taken as one data area by [`Regions::Affine`].
-const MIN_CANVAS_AREA_PX: f64 = 8.0;
+const MIN_CANVAS_AREA_PX: u32 = 8;
+
+/// Whether [`Regions::Affine`] takes a canvas of `size` whole. A canvas a few pixels wide has
+/// no inside to hold: its boundary alone makes the warp linear (and an empty area would leave
+/// the solve singular).
+pub(crate) fn takes_canvas_whole(size: crate::image::Size) -> bool {
+    size.width >= MIN_CANVAS_AREA_PX && size.height >= MIN_CANVAS_AREA_PX
+}
 
 /// Which regions of a picture are data areas (`--regions`).
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
@@ -198,9 +205,7 @@ impl Structure {
             Regions::Free => s.areas.clear(),
             Regions::Affine => {
                 let (w, h) = (image.width() as f64, image.height() as f64);
-                // A canvas a few pixels wide has no inside to hold: its boundary alone makes
-                // the warp linear (and an empty area would leave the solve singular).
-                if w < MIN_CANVAS_AREA_PX || h < MIN_CANVAS_AREA_PX {
+                if !takes_canvas_whole(image.size()) {
                     s.areas.clear();
                     return s;
                 }

@@ -7,6 +7,7 @@ use crate::retarget::frame::{Frame, StageTimes};
 use crate::retarget::options::Options;
 use crate::retarget::reuse::ReuseOptions;
 use crate::saliency::{Rect, Vsm, VsmBuilder};
+use crate::structure::Regions;
 use crate::tiles::{changed_tiles, TileMask};
 use crate::vector::{paint_out, RaisedVsm, VectorLayer, VectorOptions};
 use std::sync::Arc;
@@ -29,6 +30,12 @@ pub(crate) struct SaliencyStage {
     /// Maps of earlier frames, whose planes a new map reuses once the later stages have
     /// dropped them.
     spare: Vec<Arc<Vsm>>,
+    /// Frames resampled as one canvas ([`Regions::Affine`], no analysis kept) get the
+    /// importance alone ([`VsmBuilder::build_importance_into`]): nothing downstream reads
+    /// more of their map.
+    importance_only: bool,
+    /// The current map is the importance alone.
+    current_importance_only: bool,
 }
 
 /// Earlier maps kept for their planes: the later stages hold a frame's map for a frame or
@@ -55,6 +62,9 @@ impl SaliencyStage {
             vector: options.vector.clone(),
             raised: RaisedVsm::default(),
             spare: Vec::new(),
+            importance_only: options.effective_regions() == Regions::Affine
+                && !options.keep_analysis,
+            current_importance_only: false,
         }
     }
 
@@ -71,7 +81,11 @@ impl SaliencyStage {
     pub fn run(&mut self, mut frame: Frame) -> Result<WithVsm, Error> {
         let t = Instant::now();
         let whole = prepare_frame(&mut frame, self.marks.as_ref(), &self.vector)?;
-        let mut sal = self.vsm_of(whole.as_ref().unwrap_or(&frame.image));
+        // A frame with vector marks is meshed around them (§5.3), whatever the regions.
+        let importance_only = self.importance_only
+            && whole.is_none()
+            && crate::structure::takes_canvas_whole(frame.image.size());
+        let mut sal = self.vsm_of(whole.as_ref().unwrap_or(&frame.image), importance_only);
         sal.vsm = self.raised.apply(&sal.vsm, frame.marks.as_ref());
         Ok(WithVsm {
             frame,
@@ -84,15 +98,19 @@ impl SaliencyStage {
         })
     }
 
-    /// The VSM of `image`, recomputed only in the tiles that differ from the previous frame.
-    fn vsm_of(&mut self, image: &Image) -> Saliency {
+    /// The VSM of `image` (its importance alone with `importance_only`), recomputed only in
+    /// the tiles that differ from the previous frame (whole for the importance alone, which
+    /// has no constants to hold a region to the rest).
+    fn vsm_of(&mut self, image: &Image, importance_only: bool) -> Saliency {
         let size = image.size();
         let same = self.reuse.enabled
             && self.prev.as_ref().is_some_and(|p| p.size() == size)
-            && self.vsm.is_some();
+            && self.vsm.is_some()
+            && self.current_importance_only == importance_only;
+        self.current_importance_only = importance_only;
         let out = if !same {
             let mut vsm = self.recycled(size);
-            self.builder.build_into(image.as_ref(), &mut vsm);
+            self.build(image, &mut vsm, importance_only);
             let vsm = Arc::new(vsm);
             let mut dirty = TileMask::new(size, self.reuse.tile_px);
             for r in 0..dirty.rows() {
@@ -111,9 +129,9 @@ impl SaliencyStage {
             let current = self.vsm.clone().expect("checked");
             let vsm = if dirty.is_empty() {
                 current.clone()
-            } else if dirty.fraction() > FULL_VSM_FRACTION {
+            } else if importance_only || dirty.fraction() > FULL_VSM_FRACTION {
                 let mut v = self.recycled(size);
-                self.builder.build_into(image.as_ref(), &mut v);
+                self.build(image, &mut v, importance_only);
                 Arc::new(v)
             } else {
                 let mut v = self.recycled(size);
@@ -143,6 +161,17 @@ impl SaliencyStage {
             p => *p = Some(image.clone()),
         }
         out
+    }
+}
+
+impl SaliencyStage {
+    /// The whole map of `image` into `vsm`, or its importance alone.
+    fn build(&mut self, image: &Image, vsm: &mut Vsm, importance_only: bool) {
+        if importance_only {
+            self.builder.build_importance_into(image.as_ref(), vsm);
+        } else {
+            self.builder.build_into(image.as_ref(), vsm);
+        }
     }
 }
 
