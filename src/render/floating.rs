@@ -1015,11 +1015,7 @@ impl MarkScan<'_> {
                 let mut next = row + c0;
                 // The next cell in no blob yet and important enough, by a scan of the row's
                 // slices: most cells fail this test, so it is most of the search.
-                while let Some(skip) = (self.seen[next..end].iter())
-                    .zip(&self.imp[next..end])
-                    .position(|(&seen, &v)| !seen && v >= least)
-                {
-                    let start = next + skip;
+                while let Some(start) = next_candidate(&self.seen, self.imp, next..end, least) {
                     next = start + 1;
                     // One colour: a line chart's markers stand apart from the line through
                     // them.
@@ -1158,6 +1154,29 @@ const SAME_COLOUR: i32 = 60;
 fn same_colour(a: [u8; 3], b: [u8; 3]) -> bool {
     let d: i32 = (0..3).map(|c| (a[c] as i32 - b[c] as i32).pow(2)).sum();
     d < SAME_COLOUR * SAME_COLOUR
+}
+
+/// The first cell of `range` in no blob yet and of importance `least` or more: eight cells
+/// tested at a time without an early exit (one vector compare), then the one found.
+fn next_candidate(
+    seen: &[bool],
+    imp: &[f32],
+    range: std::ops::Range<usize>,
+    least: f32,
+) -> Option<usize> {
+    let (seen, imp) = (&seen[range.clone()], &imp[range.clone()]);
+    let hit = |(&seen, &v): (&bool, &f32)| !seen && v >= least;
+    let (mut s8, mut i8) = (seen.chunks_exact(8), imp.chunks_exact(8));
+    for (k, (s, i)) in (&mut s8).zip(&mut i8).enumerate() {
+        if s.iter().zip(i).fold(false, |any, c| any | hit(c)) {
+            let at = s.iter().zip(i).position(hit).expect("one of the eight");
+            return Some(range.start + 8 * k + at);
+        }
+    }
+    let done = seen.len() - s8.remainder().len();
+    (s8.remainder().iter().zip(i8.remainder()))
+        .position(hit)
+        .map(|at| range.start + done + at)
 }
 
 /// The median importance of the cells `[c0, c1) × [r0, r1)` of a map `gw` cells wide (to a
@@ -1811,6 +1830,25 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn the_next_candidate_is_the_first_unseen_important_cell() {
+        let imp: Vec<f32> = (0..53)
+            .map(|i| if i % 7 == 3 { 0.9 } else { 0.1 })
+            .collect();
+        let mut seen = vec![false; 53];
+        for i in [3, 10, 17] {
+            seen[i] = true;
+        }
+        let walk = |r: std::ops::Range<usize>, seen: &[bool]| {
+            r.clone().find(|&i| !seen[i] && imp[i] >= 0.5)
+        };
+        for r in [0..53, 4..53, 11..40, 24..25, 50..53, 20..20, 0..3] {
+            assert_eq!(next_candidate(&seen, &imp, r.clone(), 0.5), walk(r, &seen));
+        }
+        seen.iter_mut().for_each(|s| *s = true);
+        assert_eq!(next_candidate(&seen, &imp, 0..53, 0.5), None);
+    }
 
     #[test]
     fn the_median_importance_is_the_middle_cells_256th() {

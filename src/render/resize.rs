@@ -157,33 +157,45 @@ impl Axis {
         acc
     }
 
-    /// Samples `i..i + LANES` of a `row` (`i` a multiple of [`LANES`]), as [`Axis::filter`]
-    /// each (the same products, summed in the same order): two samples' four channels in
-    /// one row of eight floats, their weights from [`Axis::spread`]. The pairs' sums are
-    /// independent, so the processor overlaps them instead of waiting on each addition.
+    /// Samples `i..i + LANES` of each of `R` rows (`i` a multiple of [`LANES`]), as
+    /// [`Axis::filter`] each (the same products, summed in the same order): two samples' four
+    /// channels in one row of eight floats, their weights from [`Axis::spread`], each weight
+    /// read once for all `R` rows. The sums are independent, so the processor overlaps them
+    /// instead of waiting on each addition.
     #[inline(always)]
-    fn filter_lanes(&self, i: usize, row: &[[f32; 4]]) -> [[f32; 4]; LANES] {
+    fn filter_lanes<const R: usize>(
+        &self,
+        i: usize,
+        rows: [&[[f32; 4]]; R],
+    ) -> [[[f32; 4]; LANES]; R] {
         const PAIRS: usize = LANES / 2;
         let k = self.taps[i].weights.len();
         let taps = &self.taps[i..i + LANES];
-        let mut src: [&[[f32; 4]]; LANES] = [&[]; LANES];
-        for (s, t) in src.iter_mut().zip(taps) {
-            *s = &row[t.start..][..k];
+        let mut src: [[&[[f32; 4]]; LANES]; R] = [[&[]; LANES]; R];
+        for (src, row) in src.iter_mut().zip(rows) {
+            for (s, t) in src.iter_mut().zip(taps) {
+                *s = &row[t.start..][..k];
+            }
         }
         let spread = &self.spread[i / LANES * PAIRS * k..][..PAIRS * k];
-        let mut acc = [[0f32; 8]; PAIRS];
+        let mut acc = [[[0f32; 8]; PAIRS]; R];
         for j in 0..k {
             for p in 0..PAIRS {
-                let (a, b, w) = (src[2 * p][j], src[2 * p + 1][j], spread[PAIRS * j + p]);
-                let v = [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]];
-                for c in 0..8 {
-                    acc[p][c] += w[c] * v[c];
+                let w = spread[PAIRS * j + p];
+                for r in 0..R {
+                    let (a, b) = (src[r][2 * p][j], src[r][2 * p + 1][j]);
+                    let v = [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]];
+                    for c in 0..8 {
+                        acc[r][p][c] += w[c] * v[c];
+                    }
                 }
             }
         }
-        let mut out = [[0f32; 4]; LANES];
-        for (l, o) in out.iter_mut().enumerate() {
-            o.copy_from_slice(&acc[l / 2][4 * (l % 2)..][..4]);
+        let mut out = [[[0f32; 4]; LANES]; R];
+        for (out, acc) in out.iter_mut().zip(&acc) {
+            for (l, o) in out.iter_mut().enumerate() {
+                o.copy_from_slice(&acc[l / 2][4 * (l % 2)..][..4]);
+            }
         }
         out
     }
@@ -199,23 +211,43 @@ impl Axis {
         mut out_row: impl FnMut(usize, &[[f32; 4]]),
     ) {
         let (n, m) = (self.n, self.taps.len());
-        let (mut rowf, mut out) = (vec![[0f32; 4]; n], vec![[0f32; 4]; m]);
-        for y in 0..rows {
-            let row = &px[(first + y) * n..][..n];
-            for (f, &p) in rowf.as_flattened_mut().iter_mut().zip(row.as_flattened()) {
-                *f = f32::from(p);
+        let mut rowf = [vec![[0f32; 4]; n], vec![[0f32; 4]; n]];
+        let mut out = [vec![[0f32; 4]; m], vec![[0f32; 4]; m]];
+        let mut y = 0;
+        while y < rows {
+            // Two rows at a time where two are left: each weight read once for both.
+            let pair = y + 1 < rows;
+            for (r, f) in rowf.iter_mut().enumerate().take(1 + pair as usize) {
+                let row = &px[(first + y + r) * n..][..n];
+                for (f, &p) in f.as_flattened_mut().iter_mut().zip(row.as_flattened()) {
+                    *f = f32::from(p);
+                }
             }
             // [`LANES`] samples at a time, each summing its taps in order (the same bytes as
             // one at a time).
-            let mut quads = out.chunks_exact_mut(LANES);
-            for (q, o) in (&mut quads).enumerate() {
-                o.copy_from_slice(&self.filter_lanes(q * LANES, &rowf));
+            let done = m - m % LANES;
+            let [oa, ob] = &mut out;
+            for q in (0..done).step_by(LANES) {
+                if pair {
+                    let [a, b] = self.filter_lanes(q, [&rowf[0], &rowf[1]]);
+                    oa[q..q + LANES].copy_from_slice(&a);
+                    ob[q..q + LANES].copy_from_slice(&b);
+                } else {
+                    let [a] = self.filter_lanes(q, [&rowf[0]]);
+                    oa[q..q + LANES].copy_from_slice(&a);
+                }
             }
-            let done = m - quads.into_remainder().len();
-            for (x, o) in out.iter_mut().enumerate().skip(done) {
-                *o = self.filter(x, &rowf);
+            for x in done..m {
+                oa[x] = self.filter(x, &rowf[0]);
+                if pair {
+                    ob[x] = self.filter(x, &rowf[1]);
+                }
             }
-            out_row(y, &out);
+            out_row(y, oa);
+            if pair {
+                out_row(y + 1, ob);
+            }
+            y += 1 + pair as usize;
         }
     }
 }
