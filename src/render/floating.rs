@@ -873,6 +873,10 @@ fn covers_ink(
     let near: Vec<&TextBlock> = (floating.iter().copied())
         .filter(|o| o.x0 <= sx1 && o.x1 + 1 >= sx0 && o.y0 <= sy1 && o.y1 + 1 >= sy0)
         .collect();
+    // Past this much ink the answer is yes whatever the rest holds (`all` is at most the
+    // rectangle's pixels): a label tried over a heat map's cells stops at its first few.
+    let area = sx1.saturating_sub(sx0) as f64 * sy1.saturating_sub(sy0) as f64;
+    let surely = MAX_COVERED_INK * area.max(1.0);
     let (mut ink, mut all) = (0u32, 0u32);
     for y in sy0..sy1 {
         for x in sx0..sx1 {
@@ -890,6 +894,9 @@ fn covers_ink(
             if d > GROUND_NOISE * GROUND_NOISE {
                 ink += 1;
             }
+        }
+        if ink as f64 > surely {
+            return true;
         }
     }
     ink as f64 > MAX_COVERED_INK * all.max(1) as f64
