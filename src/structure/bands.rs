@@ -185,25 +185,28 @@ fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
     }
     let px = image.pixels();
     let differs_at = |a: usize, b: usize| differs(px[a], px[b]);
-    // steps_x[x]: a step between columns x - 1 (or x - 2) and x outside text.
+    // steps_x[x]: a step between columns x - 1 (or x - 2) and x outside text. A step found
+    // only sets flags: where both it would set are set already, the pixel is not compared
+    // (in a busy picture most columns and rows step early on, and the rest is skipped).
     let (mut steps_x, mut steps_y) = (vec![false; w as usize + 1], vec![false; h as usize + 1]);
     for y in 0..h {
+        let yu = y as usize;
         for x in 0..w {
             let i = (y * w + x) as usize;
+            let xu = x as usize;
             if in_text[i] {
                 continue;
             }
             let left = |k: u32| x >= k && !in_text[i - k as usize] && differs_at(i, i - k as usize);
-            if left(1) || left(2) {
-                steps_x[x as usize] = true;
-                steps_x[x as usize - 1] = true;
+            if x >= 1 && !(steps_x[xu] && steps_x[xu - 1]) && (left(1) || left(2)) {
+                steps_x[xu] = true;
+                steps_x[xu - 1] = true;
             }
             let wk = w as usize;
-            let up =
-                |k: usize| y as usize >= k && !in_text[i - k * wk] && differs_at(i, i - k * wk);
-            if up(1) || up(2) {
-                steps_y[y as usize] = true;
-                steps_y[y as usize - 1] = true;
+            let up = |k: usize| yu >= k && !in_text[i - k * wk] && differs_at(i, i - k * wk);
+            if y >= 1 && !(steps_y[yu] && steps_y[yu - 1]) && (up(1) || up(2)) {
+                steps_y[yu] = true;
+                steps_y[yu - 1] = true;
             }
         }
     }
