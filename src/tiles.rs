@@ -107,16 +107,16 @@ impl TileMask {
     }
 }
 
-/// Tiles of `tile_px` where `a` and `b` (the same size) differ.
-pub(crate) fn changed_tiles(a: &Image, b: &Image, tile_px: u32) -> TileMask {
-    let size = a.size();
+/// Tiles of `tile_px` where `prev` and `now` (the same size) differ, with `prev` made a copy
+/// of `now`: a row is copied only where it differs, right after it was compared (a stream's
+/// unchanged rows are never copied, and the changed ones are still in cache).
+pub(crate) fn take_changed_tiles(prev: &mut Image, now: &Image, tile_px: u32) -> TileMask {
+    let size = prev.size();
     let mut mask = TileMask::new(size, tile_px);
     let w = size.width as usize;
     let t = mask.tile_px() as usize;
-    for (y, (ra, rb)) in a
-        .pixels()
-        .chunks_exact(w)
-        .zip(b.pixels().chunks_exact(w))
+    for (y, (ra, rb)) in (prev.pixels_mut().chunks_exact_mut(w))
+        .zip(now.pixels().chunks_exact(w))
         .enumerate()
     {
         if ra == rb {
@@ -128,6 +128,7 @@ pub(crate) fn changed_tiles(a: &Image, b: &Image, tile_px: u32) -> TileMask {
                 mask.set(c as u32, row);
             }
         }
+        ra.copy_from_slice(rb);
     }
     mask
 }
@@ -140,13 +141,16 @@ mod tests {
     #[test]
     fn finds_exactly_the_changed_tiles() {
         let size = Size::new(100, 70).unwrap();
-        let a = Image::filled(size, [255; 4]);
+        let mut a = Image::filled(size, [255; 4]);
         let mut b = a.clone();
-        assert!(changed_tiles(&a, &b, 32).is_empty());
+        assert!(take_changed_tiles(&mut a, &b, 32).is_empty());
         b.set(33, 5, [0, 0, 0, 255]);
         b.set(99, 69, [0, 0, 0, 255]);
-        let m = changed_tiles(&a, &b, 32);
+        let m = take_changed_tiles(&mut a, &b, 32);
         assert_eq!(m.count(), 2);
         assert!(m.get(1, 0) && m.get(3, 2));
+        // The previous frame became this one: compared again, nothing changed.
+        assert!(a == b);
+        assert!(take_changed_tiles(&mut a, &b, 32).is_empty());
     }
 }

@@ -8,7 +8,7 @@ use crate::retarget::options::Options;
 use crate::retarget::reuse::ReuseOptions;
 use crate::saliency::{Rect, Vsm, VsmBuilder};
 use crate::structure::Regions;
-use crate::tiles::{changed_tiles, TileMask};
+use crate::tiles::{take_changed_tiles, TileMask};
 use crate::vector::{paint_out, RaisedVsm, VectorLayer, VectorOptions};
 use std::sync::Arc;
 use std::time::Instant;
@@ -124,8 +124,9 @@ impl SaliencyStage {
                 fresh: true,
             }
         } else {
-            let prev = self.prev.as_ref().expect("checked");
-            let dirty = changed_tiles(prev, image, self.reuse.tile_px);
+            // The previous frame becomes this one as it is compared with it.
+            let prev = self.prev.as_mut().expect("checked");
+            let dirty = take_changed_tiles(prev, image, self.reuse.tile_px);
             let current = self.vsm.clone().expect("checked");
             let vsm = if dirty.is_empty() {
                 current.clone()
@@ -156,9 +157,11 @@ impl SaliencyStage {
                 self.spare.push(old);
             }
         }
-        match &mut self.prev {
-            Some(p) if p.size() == size => p.pixels_mut().copy_from_slice(image.pixels()),
-            p => *p = Some(image.clone()),
+        if !same {
+            match &mut self.prev {
+                Some(p) if p.size() == size => p.pixels_mut().copy_from_slice(image.pixels()),
+                p => *p = Some(image.clone()),
+            }
         }
         out
     }
