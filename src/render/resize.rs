@@ -252,6 +252,26 @@ impl Axis {
     }
 }
 
+impl Axis {
+    /// One row of source samples (`src`, converted into the scratch row `rowf`) resampled
+    /// into `out`, as [`Axis::across`] makes each row.
+    #[inline(always)]
+    fn row(&self, src: &[[u8; 4]], rowf: &mut [[f32; 4]], out: &mut [[f32; 4]]) {
+        for (f, &p) in rowf.as_flattened_mut().iter_mut().zip(src.as_flattened()) {
+            *f = f32::from(p);
+        }
+        let m = self.taps.len();
+        let done = m - m % LANES;
+        for q in (0..done).step_by(LANES) {
+            let [a] = self.filter_lanes(q, [&*rowf]);
+            out[q..q + LANES].copy_from_slice(&a);
+        }
+        for (x, o) in out.iter_mut().enumerate().skip(done) {
+            *o = self.filter(x, rowf);
+        }
+    }
+}
+
 /// Output samples filtered together by [`Axis::filter_lanes`].
 const LANES: usize = 8;
 
@@ -306,37 +326,63 @@ fn across_rounded_body(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [
 
 crate::simd::with_feature! {
     "avx";
-    /// Rows `first..` of `px` resampled across into `band`'s rows, kept in floats.
-    fn across_floats(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[f32; 4]])
-        => across_floats_body
+    /// Output rows `first..` (`band`, rows of `tw`) resampled down from the rows `across`
+    /// makes of `px` (copied as floats where `across` is `None`). Each of those rows is made
+    /// once into a ring of as many rows as the longest tap: a band reads its rows while they
+    /// are in cache, and no picture-sized buffer of floats is filled and read back.
+    fn both_rounded(
+        across: Option<&Axis>,
+        down: &Axis,
+        px: &[[u8; 4]],
+        tw: usize,
+        first: usize,
+        band: &mut [[u8; 4]],
+    ) => both_rounded_body
 }
 
 #[inline(always)]
-fn across_floats_body(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[f32; 4]]) {
-    let tw = across.taps.len();
-    across.across(px, first, band.len() / tw, |y, row| {
-        band[y * tw..][..tw].copy_from_slice(row)
-    })
-}
-
-crate::simd::with_feature! {
-    "avx";
-    /// Output rows `first..` (`band`, rows of `tw`) resampled down from `mid`'s rows, a whole
-    /// row of taps at a time (a column at a time strides through `mid`), rounded.
-    fn down_rounded(down: &Axis, mid: &[[f32; 4]], tw: usize, first: usize, band: &mut [[u8; 4]])
-        => down_rounded_body
-}
-
-#[inline(always)]
-fn down_rounded_body(down: &Axis, mid: &[[f32; 4]], tw: usize, first: usize, band: &mut [[u8; 4]]) {
-    let mut acc = vec![[0f32; 4]; tw];
-    for (y, orow) in band.chunks_exact_mut(tw).enumerate() {
-        let t = &down.taps[first + y];
+fn both_rounded_body(
+    across: Option<&Axis>,
+    down: &Axis,
+    px: &[[u8; 4]],
+    tw: usize,
+    first: usize,
+    band: &mut [[u8; 4]],
+) {
+    let rows = band.len() / tw;
+    let sw = px.len() / down.n.max(1);
+    let taps = &down.taps[first..first + rows];
+    let cap = (taps.iter().map(|t| t.weights.len()).max())
+        .unwrap_or(1)
+        .max(1);
+    let mut ring = vec![[0f32; 4]; cap * tw];
+    // The source row each slot of the ring holds. A row's taps are consecutive rows, at
+    // most `cap`, so they never share a slot; the rows wanted only move down the picture
+    // (but for a map's bends, where a row made again costs time, not bytes).
+    let mut held = vec![usize::MAX; cap];
+    let (mut rowf, mut acc) = (vec![[0f32; 4]; sw], vec![[0f32; 4]; tw]);
+    for (t, orow) in taps.iter().zip(band.chunks_exact_mut(tw)) {
+        let len = t.weights.len();
+        for j in t.start..t.start + len {
+            let slot = j % cap;
+            if held[slot] == j {
+                continue;
+            }
+            let (src, dst) = (&px[j * sw..][..sw], &mut ring[slot * tw..][..tw]);
+            match across {
+                Some(a) => a.row(src, &mut rowf, dst),
+                None => {
+                    for (o, &p) in dst.as_flattened_mut().iter_mut().zip(src.as_flattened()) {
+                        *o = f32::from(p);
+                    }
+                }
+            }
+            held[slot] = j;
+        }
         acc.fill([0.0; 4]);
         for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
-            let j = t.start + k;
             // Flat loops over the row's floats: vectors, whatever the channel count.
-            let row = mid[j * tw..(j + 1) * tw].as_flattened();
+            let row = ring[(t.start + k) % cap * tw..][..tw].as_flattened();
             for (a, &v) in acc.as_flattened_mut().iter_mut().zip(row) {
                 *a += w * v;
             }
@@ -455,7 +501,6 @@ fn resize_axes(
     across: impl FnOnce() -> Axis,
     down: impl FnOnce() -> Axis,
 ) -> Image {
-    let sh = src.height() as usize;
     let tw = target.width as usize;
     let px = src.pixels();
     let mut out = Image::new(target);
@@ -476,20 +521,10 @@ fn resize_axes(
         });
         return out;
     };
-    // Across first: sh rows of tw samples (an axis that keeps its size is copied).
-    let mut mid = vec![[0f32; 4]; sh * tw];
-    if let Some(across) = across {
-        let across = across.padded();
-        in_bands(&mut mid, tw, threads, |first, band| {
-            across_floats(&across, px, first, band)
-        });
-    } else {
-        for (o, &p) in mid.as_flattened_mut().iter_mut().zip(px.as_flattened()) {
-            *o = f32::from(p);
-        }
-    }
+    // Down, from the rows across makes (an axis that keeps its size is copied).
+    let across = across.map(Axis::padded);
     in_bands(out.pixels_mut(), tw, threads, |first, band| {
-        down_rounded(&down, &mid, tw, first, band)
+        both_rounded(across.as_ref(), &down, px, tw, first, band)
     });
     out
 }
@@ -666,6 +701,25 @@ mod tests {
     }
 
     #[test]
+    fn a_band_of_rows_is_the_same_rows_of_the_whole() {
+        // Threads resample bands of output rows, each making its own ring of source rows.
+        let (sw, sh, tw, th) = (37, 91, 23, 40);
+        let px: Vec<[u8; 4]> = (0..sw * sh)
+            .map(|i| [(i * 7 % 256) as u8, (i * 13 % 256) as u8, (i % 251) as u8, 255])
+            .collect();
+        let (across, down) = (Axis::new(sw, tw).padded(), Axis::new(sh, th));
+        let mut whole = vec![[0u8; 4]; th * tw];
+        both_rounded(Some(&across), &down, &px, tw, 0, &mut whole);
+        for split in [1, 17, 39] {
+            let mut parts = vec![[0u8; 4]; th * tw];
+            let (top, bottom) = parts.split_at_mut(split * tw);
+            both_rounded(Some(&across), &down, &px, tw, 0, top);
+            both_rounded(Some(&across), &down, &px, tw, split, bottom);
+            assert!(parts == whole, "split at {split}");
+        }
+    }
+
+    #[test]
     fn rows_quantize_as_imagemagick_writes_them() {
         // Exact levels stay; between two, the level below unless within half a 16-bit step
         // of the one above; past the ends, the ends.
@@ -753,14 +807,17 @@ mod tests {
             across_rounded(&across, &px, 0, &mut a);
             across_rounded_body(&across, &px, 0, &mut b);
             proptest::prop_assert!(a == b);
-            let (mut fa, mut fb) = (vec![[0f32; 4]; sh * tw], vec![[0f32; 4]; sh * tw]);
-            across_floats(&across, &px, 0, &mut fa);
-            across_floats_body(&across, &px, 0, &mut fb);
-            proptest::prop_assert!(fa == fb);
             let down = Axis::new(sh, th);
+            for across in [Some(&across), None] {
+                let w = if across.is_some() { tw } else { sw };
+                let (mut a, mut b) = (vec![[0u8; 4]; th * w], vec![[0u8; 4]; th * w]);
+                both_rounded(across, &down, &px, w, 0, &mut a);
+                both_rounded_body(across, &down, &px, w, 0, &mut b);
+                proptest::prop_assert!(a == b);
+            }
             let (mut a, mut b) = (vec![[0u8; 4]; th * tw], vec![[0u8; 4]; th * tw]);
-            down_rounded(&down, &fa, tw, 0, &mut a);
-            down_rounded_body(&down, &fa, tw, 0, &mut b);
+            both_rounded(Some(&across), &down, &px, tw, 0, &mut a);
+            both_rounded_body(Some(&across), &down, &px, tw, 0, &mut b);
             proptest::prop_assert!(a == b);
         }
     }
