@@ -1,7 +1,10 @@
 //! Stream throughput of the threaded pipeline, in memory (no decoding or encoding), at
 //! 1280×720 → 720×720, for the three kinds of stream the issue names:
 //! (a) static content, (b) a few small marks moving each frame, (c) every frame different.
-//! Prints frames per second and the reuse shares. `cargo bench --bench stream`.
+//! Prints frames per second and the reuse shares, then each stage's milliseconds per frame
+//! of the sequential core ([`vizretarget::Retargeter`], one frame at a time, its render on
+//! every core): what a frame costs, without the pipeline's stages contending for the cores.
+//! `cargo bench --bench stream`.
 //!
 //! The end-to-end figures with raw frames through stdin and stdout, beside ffmpeg's scale
 //! filter on the same frames, come from `benches/stream_vs_ffmpeg.sh`.
@@ -13,7 +16,7 @@ use dashboard::frame;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use vizretarget::stream::{FrameSink, NoProgress, VecSource};
-use vizretarget::{Error, Frame, Image, Options, Pipeline, Retargeted, Size};
+use vizretarget::{Error, Frame, Image, Options, Pipeline, Retargeted, Retargeter, Size};
 
 struct CountSink(u64);
 impl FrameSink for CountSink {
@@ -80,6 +83,40 @@ fn main() {
             per(s.stage_ms.mesh_ms),
             per(s.stage_ms.solve_ms),
             per(s.stage_ms.render_ms)
+        );
+    }
+    eprintln!("sequential core, one frame at a time, ms/frame (mean of {n} frames):");
+    let sequential: [Kind; 2] = [
+        (
+            "(b) 3 marks moving",
+            Box::new(move |t| frame(size, t, 3, 0)),
+            true,
+        ),
+        (
+            "(c) every frame different",
+            Box::new(move |t| frame(size, t, 40, 7 * t + 1)),
+            true,
+        ),
+    ];
+    for (name, make, _) in sequential {
+        let mut r = Retargeter::new(target, Options::default()).unwrap();
+        let (mut sum, t0) = ([0f64; 4], Instant::now());
+        for t in 0..n {
+            r.send_frame(Frame::new(make(t), t as u64)).unwrap();
+            let out = r.receive_frame().ok().expect("a frame out per frame in");
+            let st = out.stats.times;
+            for (s, v) in sum
+                .iter_mut()
+                .zip([st.vsm_ms, st.mesh_ms, st.solve_ms, st.render_ms])
+            {
+                *s += v;
+            }
+        }
+        let wall = t0.elapsed().as_secs_f64() * 1000.0 / n as f64;
+        let [vsm, mesh, solve, render] = sum.map(|v| v / n as f64);
+        eprintln!(
+            "{name:28} vsm {vsm:.1} mesh {mesh:.1} solve {solve:.1} render {render:.1}   total {:.1} (wall {wall:.1} with drawing the frame)",
+            vsm + mesh + solve + render
         );
     }
 }

@@ -705,7 +705,14 @@ mod tests {
         // Threads resample bands of output rows, each making its own ring of source rows.
         let (sw, sh, tw, th) = (37, 91, 23, 40);
         let px: Vec<[u8; 4]> = (0..sw * sh)
-            .map(|i| [(i * 7 % 256) as u8, (i * 13 % 256) as u8, (i % 251) as u8, 255])
+            .map(|i| {
+                [
+                    (i * 7 % 256) as u8,
+                    (i * 13 % 256) as u8,
+                    (i % 251) as u8,
+                    255,
+                ]
+            })
             .collect();
         let (across, down) = (Axis::new(sw, tw).padded(), Axis::new(sh, th));
         let mut whole = vec![[0u8; 4]; th * tw];
