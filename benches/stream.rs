@@ -103,7 +103,9 @@ fn main() {
         let (mut sum, t0) = ([0f64; 4], Instant::now());
         for t in 0..n {
             r.send_frame(Frame::new(make(t), t as u64)).unwrap();
-            let out = r.receive_frame().ok().expect("a frame out per frame in");
+            let Ok(out) = r.receive_frame() else {
+                panic!("no frame out for frame {t}");
+            };
             let st = out.stats.times;
             for (s, v) in sum
                 .iter_mut()
