@@ -316,13 +316,69 @@ fn fit(pairs: &[(f64, f64)]) -> (f64, f64, f64) {
     (a, b, worst)
 }
 
-/// The default (`--regions affine`) bends nothing: every dot of a scatter comes out centred
-/// where one map per axis puts it, at least the linear resize's scale (the blank margins
-/// give way to the plot, nothing else does). Dots of a colour that paints only round marks
-/// on a plain ground keep their shape, all at one scale (sizes keep their proportions);
-/// where the same colour also paints a shape that is no mark (here an L), none of its dots
-/// float, and all come out as the plot's ellipses (judged blind, round and squeezed marks
-/// side by side read worse than all squeezed).
+/// A stream of scatters: a dot moving a pixel, a small dark tick appearing (a label's
+/// change), a faint speck in the margin, a dot of a new colour, a frame repeated.
+fn scatter_stream() -> Vec<Image> {
+    let (base, dots) = scatter(5, &[6.0, 9.0, 12.0, 7.0, 10.0]);
+    let (x, y, r) = dots[0];
+    let mut frames = vec![base.clone()];
+    let mut moved = base.clone();
+    disc(&mut moved, x, y, r + 1.0, [255; 4]);
+    disc(&mut moved, x + 1.0, y, r, DOT);
+    frames.push(moved.clone());
+    let mut ticked = moved.clone();
+    rect(&mut ticked, 20, 200, 23, 204, AXIS);
+    frames.push(ticked.clone());
+    // A speck in the margin: too faint for the saliency to count, a step for the bands.
+    ticked.set(30, 120, [150, 150, 150, 255]);
+    ticked.set(31, 120, [150, 150, 150, 255]);
+    frames.push(ticked.clone());
+    let mut red = ticked.clone();
+    disc(&mut red, 500.0, 80.0, 8.0, [214, 39, 40, 255]);
+    frames.push(red.clone());
+    frames.push(red);
+    frames
+}
+
+/// The frames of `stream` through the sequential core with `options`.
+fn through(stream: &[Image], target: Size, options: Options) -> Vec<Image> {
+    let mut r = vizretarget::Retargeter::new(target, options).unwrap();
+    (stream.iter().enumerate())
+        .map(|(i, f)| {
+            r.send_frame(vizretarget::Frame::new(f.clone(), i as u64))
+                .unwrap();
+            let Ok(out) = r.receive_frame() else {
+                panic!("no frame out for frame {i}");
+            };
+            out.image
+        })
+        .collect()
+}
+
+/// On a canvas taken whole every changed frame is drawn from its own pixels: the frames of a
+/// stream are the frames each would give alone, whether the stream's maps are whole (the
+/// analysis kept) or the importance alone, and with reuse on or off.
+#[test]
+fn a_canvas_streams_frames_are_the_frames_alone() {
+    let stream = scatter_stream();
+    let target = Size::new(300, 380).unwrap();
+    let lite = through(&stream, target, Options::default());
+    let whole = through(&stream, target, Options::default().with_analysis(true));
+    let mut off = Options::default();
+    off.reuse.enabled = false;
+    let fresh = through(&stream, target, off);
+    for (i, f) in stream.iter().enumerate() {
+        let alone = retarget(f, target, &Options::default()).unwrap().image;
+        assert!(
+            lite[i] == alone,
+            "frame {i}: the importance alone, in a stream"
+        );
+        assert!(whole[i] == alone, "frame {i}: the whole map, in a stream");
+        assert!(fresh[i] == alone, "frame {i}: without reuse");
+    }
+    assert!(lite[1] != lite[0] && lite[4] != lite[3] && lite[5] == lite[4]);
+}
+
 #[test]
 fn the_importance_alone_draws_what_the_whole_map_draws() {
     // Without the analysis kept, a canvas taken whole gets the importance alone (the blobs
@@ -339,6 +395,13 @@ fn the_importance_alone_draws_what_the_whole_map_draws() {
     }
 }
 
+/// The default (`--regions affine`) bends nothing: every dot of a scatter comes out centred
+/// where one map per axis puts it, at least the linear resize's scale (the blank margins
+/// give way to the plot, nothing else does). Dots of a colour that paints only round marks
+/// on a plain ground keep their shape, all at one scale (sizes keep their proportions);
+/// where the same colour also paints a shape that is no mark (here an L), none of its dots
+/// float, and all come out as the plot's ellipses (judged blind, round and squeezed marks
+/// side by side read worse than all squeezed).
 #[test]
 fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
     let radii = [5.0, 8.0, 12.0, 16.0, 20.0, 7.0, 10.0, 14.0];

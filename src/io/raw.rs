@@ -207,6 +207,7 @@ crate::simd::with_feature! {
 
 #[inline(always)]
 fn rgb_to_rgba_body(rgb: &[u8], out: &mut [[u8; 4]]) {
+    debug_assert_eq!(rgb.len(), 3 * out.len(), "every pixel gets its bytes");
     for (o, p) in out.iter_mut().zip(rgb.chunks_exact(3)) {
         *o = [p[0], p[1], p[2], 255];
     }
@@ -221,6 +222,7 @@ crate::simd::with_feature! {
 
 #[inline(always)]
 fn rgba_to_rgb_body(px: &[[u8; 4]], out: &mut [u8]) {
+    debug_assert_eq!(out.len(), 3 * px.len(), "every pixel gets its bytes");
     for (o, p) in out.chunks_exact_mut(3).zip(px) {
         o[0] = p[0];
         o[1] = p[1];

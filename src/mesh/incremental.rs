@@ -268,11 +268,6 @@ impl IncrementalMesh {
         (inc, mesh)
     }
 
-    /// The structure this mesh was built around, if any.
-    pub fn structure(&self) -> Option<&Structure> {
-        self.structure.as_deref()
-    }
-
     /// The next id this mesh would give a new vertex.
     pub fn next_id(&self) -> u64 {
         self.next_id

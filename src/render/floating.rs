@@ -1869,7 +1869,7 @@ mod tests {
                 (v >> 8) as f32 / (1 << 24) as f32 * 1.2 - 0.1
             })
             .collect();
-        imp[5] = f32::NAN;
+        imp[gw + 5] = f32::NAN;
         let window = [2, 1, 19, 10];
         let mut levels: Vec<u32> = (1..10)
             .flat_map(|r| (2..19).map(move |c| r * gw + c))

@@ -794,7 +794,8 @@ mod tests {
         }
 
         /// The loops compiled for AVX (where this processor has it) and for the baseline
-        /// give the same bytes: a picture does not depend on the machine that drew it.
+        /// give the same bytes: a picture does not depend on the machine that drew it. (On a
+        /// processor without AVX both calls run the baseline, and this holds trivially.)
         #[test]
         fn every_build_of_the_loops_gives_the_same_bytes(
             sw in 1u32..70, sh in 1u32..70, tw in 1u32..70, th in 1u32..70, seed: u32,
@@ -822,10 +823,6 @@ mod tests {
                 both_rounded_body(across, &down, &px, w, 0, &mut b);
                 proptest::prop_assert!(a == b);
             }
-            let (mut a, mut b) = (vec![[0u8; 4]; th * tw], vec![[0u8; 4]; th * tw]);
-            both_rounded(Some(&across), &down, &px, tw, 0, &mut a);
-            both_rounded_body(Some(&across), &down, &px, tw, 0, &mut b);
-            proptest::prop_assert!(a == b);
         }
     }
 }

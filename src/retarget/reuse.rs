@@ -4,7 +4,7 @@
 
 use crate::mesh::{find_marks, IncrementalMesh, Mark, Mesh};
 use crate::saliency::{Vsm, DILATION_RADIUS};
-use crate::structure::{Regions, Structure};
+use crate::structure::Regions;
 use crate::tiles::TileMask;
 use glam::DVec2;
 use std::sync::Arc;
@@ -112,13 +112,18 @@ pub(crate) fn decide(
     if Arc::ptr_eq(&b.last, vsm) {
         return Plan::Reuse { marks: None };
     }
+    // Under one affine map a frame whose pixels changed (the saliency stage made it a new
+    // map) is built afresh: its text and floats are found in its own pixels, so a frame
+    // draws the same whether it came alone or after others. A measure of how much the map
+    // changed would depend on which map is kept ([`crate::saliency::VsmBuilder`]'s whole
+    // map, or the importance alone) and let a changed label be drawn as an earlier frame
+    // found it.
+    if regions == Regions::Affine {
+        return Plan::Rebuild;
+    }
     // Raster marks float only without vector marks (those steer the mesh themselves).
     let floats = now.points.is_empty() && now.rings.is_empty();
-    let rebuild_on_change = regions == Regions::Affine;
-    // On a canvas taken whole no stream mark floats over a kept warp (each frame is resampled
-    // and its floats found afresh): there is nothing to find.
-    let canvas = b.inc.structure().is_some_and(Structure::whole_canvas);
-    let marks: Vec<Mark> = if floats && !canvas {
+    let marks: Vec<Mark> = if floats {
         find_marks(vsm)
             .into_iter()
             .filter(|m| !b.inc.in_text(m.center))
@@ -127,10 +132,8 @@ pub(crate) fn decide(
         Vec::new()
     };
     // Small marks, where the mesh rings them and where they are now, do not count as change.
-    // Their saliency reaches beyond their box by the VSM's blur, Sobel and dilation. Under one
-    // affine map nothing is ignored: a label appearing reads as small marks too, and must be
-    // found as text on a rebuild.
-    let ignore: Vec<[f64; 4]> = if floats && !rebuild_on_change {
+    // Their saliency reaches beyond their box by the VSM's blur, Sobel and dilation.
+    let ignore: Vec<[f64; 4]> = if floats {
         let reach = ((DILATION_RADIUS + 2) as u32 * vsm.scale() + 1) as f64;
         b.mesh
             .marks()
@@ -144,15 +147,7 @@ pub(crate) fn decide(
     } else {
         Vec::new()
     };
-    // Under one affine map any change rebuilds: the first changed tile settles it.
-    let changed = changed_saliency(
-        &b.reference,
-        vsm,
-        options,
-        &ignore,
-        scratch,
-        rebuild_on_change,
-    );
+    let changed = changed_saliency(&b.reference, vsm, options, &ignore, scratch);
     let touches_vector_marks = || {
         now.points.iter().any(|&p| changed.contains(p))
             || now.rings.iter().any(|m| {
@@ -163,10 +158,7 @@ pub(crate) fn decide(
     };
     if changed.is_empty() {
         Plan::Reuse { marks: Some(marks) }
-    } else if rebuild_on_change
-        || changed.fraction() > options.rebuild_fraction
-        || touches_vector_marks()
-    {
+    } else if changed.fraction() > options.rebuild_fraction || touches_vector_marks() {
         Plan::Rebuild
     } else {
         Plan::Update {
@@ -187,7 +179,6 @@ pub(crate) fn changed_saliency(
     options: &ReuseOptions,
     ignore: &[[f64; 4]],
     scratch: &mut Vec<bool>,
-    first_only: bool,
 ) -> TileMask {
     let size = now.size();
     let mut mask = TileMask::new(size, options.tile_px);
@@ -229,9 +220,6 @@ pub(crate) fn changed_saliency(
             let mean = sum / ((x1 - x0) * (y1 - y0)) as f32;
             if mean > options.tile_threshold {
                 mask.set(col as u32, row as u32);
-                if first_only {
-                    return mask;
-                }
             }
         }
     }

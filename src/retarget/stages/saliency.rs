@@ -36,6 +36,10 @@ pub(crate) struct SaliencyStage {
     importance_only: bool,
     /// The current map is the importance alone.
     current_importance_only: bool,
+    /// A changed frame's map is built whole, never region by region (under
+    /// [`Regions::Affine`], where each changed frame is resampled afresh): a map held to an
+    /// earlier frame's constants would make what floats depend on the frames before.
+    whole_maps: bool,
 }
 
 /// Earlier maps kept for their planes: the later stages hold a frame's map for a frame or
@@ -65,6 +69,7 @@ impl SaliencyStage {
             importance_only: options.effective_regions() == Regions::Affine
                 && !options.keep_analysis,
             current_importance_only: false,
+            whole_maps: options.effective_regions() == Regions::Affine,
         }
     }
 
@@ -130,7 +135,7 @@ impl SaliencyStage {
             let current = self.vsm.clone().expect("checked");
             let vsm = if dirty.is_empty() {
                 current.clone()
-            } else if importance_only || dirty.fraction() > FULL_VSM_FRACTION {
+            } else if self.whole_maps || dirty.fraction() > FULL_VSM_FRACTION {
                 let mut v = self.recycled(size);
                 self.build(image, &mut v, importance_only);
                 Arc::new(v)
