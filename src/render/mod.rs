@@ -104,7 +104,7 @@ impl Renderer {
         if dst.size() != target {
             *dst = Image::new(target);
         }
-        let opaque = src.pixels().iter().all(|p| p[3] == 255);
+        let opaque = src.is_opaque();
         self.ripmap.clear(opaque);
         let frame = Frame {
             src,
