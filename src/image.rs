@@ -160,7 +160,7 @@ impl<'a> ImageRef<'a> {
 fn all_opaque(px: &[[u8; 4]]) -> bool {
     let and = |q: &[[u8; 4]]| q.iter().fold(u32::MAX, |m, p| m & u32::from_le_bytes(*p));
     let mut chunks = px.chunks_exact(64);
-    (&mut chunks).all(|c| and(c) >> 24 == 255) && and(chunks.remainder()) >> 24 == 255
+    chunks.all(|c| and(c) >> 24 == 255) && and(chunks.remainder()) >> 24 == 255
 }
 
 #[cfg(test)]
