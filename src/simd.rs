@@ -6,7 +6,9 @@
 /// `"avx"`: eight floats to an instruction instead of four) and run so where the processor has
 /// it. The same operations in the same order, so the same bytes either way: keep fused
 /// multiply-adds out (they round once where a product and a sum round twice). `$body` must be
-/// `#[inline(always)]` to be compiled into the wider copy.
+/// `#[inline(always)]` to be compiled into the wider copy, and so must what it calls in its
+/// hot loops; a closure it hands on is widened only where the compiler inlines it (speed,
+/// never bytes). Each use keeps a test that both copies give the same result.
 macro_rules! with_feature {
     ($feature:tt; $(#[$m:meta])* $vis:vis fn $name:ident($($a:ident: $t:ty),* $(,)?) $(-> $r:ty)? => $body:ident) => {
         $(#[$m])*
