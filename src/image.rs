@@ -163,6 +163,21 @@ fn all_opaque(px: &[[u8; 4]]) -> bool {
     chunks.all(|c| and(c) >> 24 == 255) && and(chunks.remainder()) >> 24 == 255
 }
 
+/// `n` pixels of xorshift noise (every channel, alpha too) from `seed`: the test input that
+/// leaves no byte pattern for a fast path to lean on.
+#[cfg(test)]
+pub(crate) fn noise_pixels(n: usize, seed: u32) -> Vec<[u8; 4]> {
+    let mut s = seed | 1;
+    (0..n)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s.to_le_bytes()
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

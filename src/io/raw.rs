@@ -202,14 +202,11 @@ crate::simd::with_feature! {
     /// Opaque pixels from packed RGB bytes (as many as both hold). Sized first, then one
     /// loop over both buffers, byte by byte: with AVX2's byte shuffles that form runs about
     /// three times as fast as copying three-byte slices.
-    fn rgb_to_rgba(rgb: &[u8], out: &mut [[u8; 4]]) => rgb_to_rgba_body
-}
-
-#[inline(always)]
-fn rgb_to_rgba_body(rgb: &[u8], out: &mut [[u8; 4]]) {
-    debug_assert_eq!(rgb.len(), 3 * out.len(), "every pixel gets its bytes");
-    for (o, p) in out.iter_mut().zip(rgb.chunks_exact(3)) {
-        *o = [p[0], p[1], p[2], 255];
+    fn rgb_to_rgba(rgb: &[u8], out: &mut [[u8; 4]]) => rgb_to_rgba_body {
+        debug_assert_eq!(rgb.len(), 3 * out.len(), "every pixel gets its bytes");
+        for (o, p) in out.iter_mut().zip(rgb.chunks_exact(3)) {
+            *o = [p[0], p[1], p[2], 255];
+        }
     }
 }
 
@@ -217,16 +214,13 @@ crate::simd::with_feature! {
     "avx2";
     /// Packed RGB bytes of pixels, their alpha dropped (as many as both hold): as
     /// [`rgb_to_rgba`], byte by byte.
-    fn rgba_to_rgb(px: &[[u8; 4]], out: &mut [u8]) => rgba_to_rgb_body
-}
-
-#[inline(always)]
-fn rgba_to_rgb_body(px: &[[u8; 4]], out: &mut [u8]) {
-    debug_assert_eq!(out.len(), 3 * px.len(), "every pixel gets its bytes");
-    for (o, p) in out.chunks_exact_mut(3).zip(px) {
-        o[0] = p[0];
-        o[1] = p[1];
-        o[2] = p[2];
+    fn rgba_to_rgb(px: &[[u8; 4]], out: &mut [u8]) => rgba_to_rgb_body {
+        debug_assert_eq!(out.len(), 3 * px.len(), "every pixel gets its bytes");
+        for (o, p) in out.chunks_exact_mut(3).zip(px) {
+            o[0] = p[0];
+            o[1] = p[1];
+            o[2] = p[2];
+        }
     }
 }
 

@@ -313,15 +313,12 @@ crate::simd::with_feature! {
     "avx";
     /// Rows `first..` of `px` resampled across into `band`'s rows, rounded.
     fn across_rounded(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[u8; 4]])
-        => across_rounded_body
-}
-
-#[inline(always)]
-fn across_rounded_body(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[u8; 4]]) {
-    let tw = across.taps.len();
-    across.across(px, first, band.len() / tw, |y, row| {
-        round_row(row, &mut band[y * tw..][..tw])
-    })
+        => across_rounded_body {
+        let tw = across.taps.len();
+        across.across(px, first, band.len() / tw, |y, row| {
+            round_row(row, &mut band[y * tw..][..tw])
+        })
+    }
 }
 
 crate::simd::with_feature! {
@@ -337,57 +334,47 @@ crate::simd::with_feature! {
         tw: usize,
         first: usize,
         band: &mut [[u8; 4]],
-    ) => both_rounded_body
-}
-
-#[inline(always)]
-fn both_rounded_body(
-    across: Option<&Axis>,
-    down: &Axis,
-    px: &[[u8; 4]],
-    tw: usize,
-    first: usize,
-    band: &mut [[u8; 4]],
-) {
-    let rows = band.len() / tw;
-    let sw = px.len() / down.n.max(1);
-    let taps = &down.taps[first..first + rows];
-    let cap = (taps.iter().map(|t| t.weights.len()).max())
-        .unwrap_or(1)
-        .max(1);
-    let mut ring = vec![[0f32; 4]; cap * tw];
-    // The source row each slot of the ring holds. A row's taps are consecutive rows, at
-    // most `cap`, so they never share a slot; the rows wanted only move down the picture
-    // (but for a map's bends, where a row made again costs time, not bytes).
-    let mut held = vec![usize::MAX; cap];
-    let (mut rowf, mut acc) = (vec![[0f32; 4]; sw], vec![[0f32; 4]; tw]);
-    for (t, orow) in taps.iter().zip(band.chunks_exact_mut(tw)) {
-        let len = t.weights.len();
-        for j in t.start..t.start + len {
-            let slot = j % cap;
-            if held[slot] == j {
-                continue;
-            }
-            let (src, dst) = (&px[j * sw..][..sw], &mut ring[slot * tw..][..tw]);
-            match across {
-                Some(a) => a.row(src, &mut rowf, dst),
-                None => {
-                    for (o, &p) in dst.as_flattened_mut().iter_mut().zip(src.as_flattened()) {
-                        *o = f32::from(p);
+    ) => both_rounded_body {
+        let rows = band.len() / tw;
+        let sw = px.len() / down.n.max(1);
+        let taps = &down.taps[first..first + rows];
+        let cap = (taps.iter().map(|t| t.weights.len()).max())
+            .unwrap_or(1)
+            .max(1);
+        let mut ring = vec![[0f32; 4]; cap * tw];
+        // The source row each slot of the ring holds. A row's taps are consecutive rows, at
+        // most `cap`, so they never share a slot; the rows wanted only move down the picture
+        // (but for a map's bends, where a row made again costs time, not bytes).
+        let mut held = vec![usize::MAX; cap];
+        let (mut rowf, mut acc) = (vec![[0f32; 4]; sw], vec![[0f32; 4]; tw]);
+        for (t, orow) in taps.iter().zip(band.chunks_exact_mut(tw)) {
+            let len = t.weights.len();
+            for j in t.start..t.start + len {
+                let slot = j % cap;
+                if held[slot] == j {
+                    continue;
+                }
+                let (src, dst) = (&px[j * sw..][..sw], &mut ring[slot * tw..][..tw]);
+                match across {
+                    Some(a) => a.row(src, &mut rowf, dst),
+                    None => {
+                        for (o, &p) in dst.as_flattened_mut().iter_mut().zip(src.as_flattened()) {
+                            *o = f32::from(p);
+                        }
                     }
                 }
+                held[slot] = j;
             }
-            held[slot] = j;
-        }
-        acc.fill([0.0; 4]);
-        for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
-            // Flat loops over the row's floats: vectors, whatever the channel count.
-            let row = ring[(t.start + k) % cap * tw..][..tw].as_flattened();
-            for (a, &v) in acc.as_flattened_mut().iter_mut().zip(row) {
-                *a += w * v;
+            acc.fill([0.0; 4]);
+            for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
+                // Flat loops over the row's floats: vectors, whatever the channel count.
+                let row = ring[(t.start + k) % cap * tw..][..tw].as_flattened();
+                for (a, &v) in acc.as_flattened_mut().iter_mut().zip(row) {
+                    *a += w * v;
+                }
             }
+            round_row(&acc, orow);
         }
-        round_row(&acc, orow);
     }
 }
 
@@ -778,15 +765,7 @@ mod tests {
         fn the_fast_loops_give_the_formulas_bytes(
             sw in 1u32..90, sh in 1u32..90, tw in 1u32..90, th in 1u32..90, seed: u32,
         ) {
-            let mut s = seed | 1;
-            let data = (0..sw * sh)
-                .map(|_| {
-                    s ^= s << 13;
-                    s ^= s >> 17;
-                    s ^= s << 5;
-                    s.to_le_bytes()
-                })
-                .collect();
+            let data = crate::image::noise_pixels((sw * sh) as usize, seed);
             let img = Image::from_pixels(Size::new(sw, sh).unwrap(), data).unwrap();
             let target = Size::new(tw, th).unwrap();
             let (fast, slow) = (resize_linear(img.as_ref(), target), reference(&img, target));
@@ -800,15 +779,7 @@ mod tests {
         fn every_build_of_the_loops_gives_the_same_bytes(
             sw in 1u32..70, sh in 1u32..70, tw in 1u32..70, th in 1u32..70, seed: u32,
         ) {
-            let mut s = seed | 1;
-            let px: Vec<[u8; 4]> = (0..sw * sh)
-                .map(|_| {
-                    s ^= s << 13;
-                    s ^= s >> 17;
-                    s ^= s << 5;
-                    s.to_le_bytes()
-                })
-                .collect();
+            let px = crate::image::noise_pixels((sw * sh) as usize, seed);
             let (sw, sh, tw, th) = (sw as usize, sh as usize, tw as usize, th as usize);
             let across = Axis::new(sw, tw).padded();
             let (mut a, mut b) = (vec![[0u8; 4]; sh * tw], vec![[0u8; 4]; sh * tw]);

@@ -37,56 +37,46 @@ crate::simd::with_feature! {
         mean: [f32; 4],
         ring: &mut Vec<f32>,
         out: &mut Vec<f32>,
-    ) -> f32 => importance_body
-}
-
-#[inline(always)]
-fn importance_body(
-    planes: &[Vec<f32>; 4],
-    w: usize,
-    h: usize,
-    mean: [f32; 4],
-    ring: &mut Vec<f32>,
-    out: &mut Vec<f32>,
-) -> f32 {
-    out.resize(w * h, 0.0);
-    ring.resize(4 * 3 * w, 0.0);
-    let slot = |c: usize, r: usize| (c * 3 + r % 3) * w;
-    for (c, plane) in planes.iter().enumerate() {
-        for r in 0..2.min(h) {
-            let s = slot(c, r);
-            hblur(&plane[r * w..][..w], &mut ring[s..s + w]);
-        }
-    }
-    let mut max = 0f32;
-    for y in 0..h {
-        if y >= 1 && y + 1 < h {
-            for (c, plane) in planes.iter().enumerate() {
-                let s = slot(c, y + 1);
-                hblur(&plane[(y + 1) * w..][..w], &mut ring[s..s + w]);
+    ) -> f32 => importance_body {
+        out.resize(w * h, 0.0);
+        ring.resize(4 * 3 * w, 0.0);
+        let slot = |c: usize, r: usize| (c * 3 + r % 3) * w;
+        for (c, plane) in planes.iter().enumerate() {
+            for r in 0..2.min(h) {
+                let s = slot(c, r);
+                hblur(&plane[r * w..][..w], &mut ring[s..s + w]);
             }
         }
-        let (ru, rm, rd) = (y.saturating_sub(1), y, (y + 1).min(h - 1));
-        let orow = &mut out[y * w..][..w];
-        orow.fill(0.0);
-        for c in 0..4 {
-            let (up, mid, down) = (
-                &ring[slot(c, ru)..][..w],
-                &ring[slot(c, rm)..][..w],
-                &ring[slot(c, rd)..][..w],
-            );
-            let m = mean[c];
-            for i in 0..w {
-                let d = m - (0.25 * (up[i] + down[i]) + 0.5 * mid[i]);
-                orow[i] += d * d;
+        let mut max = 0f32;
+        for y in 0..h {
+            if y >= 1 && y + 1 < h {
+                for (c, plane) in planes.iter().enumerate() {
+                    let s = slot(c, y + 1);
+                    hblur(&plane[(y + 1) * w..][..w], &mut ring[s..s + w]);
+                }
             }
+            let (ru, rm, rd) = (y.saturating_sub(1), y, (y + 1).min(h - 1));
+            let orow = &mut out[y * w..][..w];
+            orow.fill(0.0);
+            for c in 0..4 {
+                let (up, mid, down) = (
+                    &ring[slot(c, ru)..][..w],
+                    &ring[slot(c, rm)..][..w],
+                    &ring[slot(c, rd)..][..w],
+                );
+                let m = mean[c];
+                for i in 0..w {
+                    let d = m - (0.25 * (up[i] + down[i]) + 0.5 * mid[i]);
+                    orow[i] += d * d;
+                }
+            }
+            for o in orow.iter_mut() {
+                *o = o.sqrt();
+            }
+            max = max.max(super::max_of(orow));
         }
-        for o in orow.iter_mut() {
-            *o = o.sqrt();
-        }
-        max = max.max(super::max_of(orow));
+        max
     }
-    max
 }
 
 #[cfg(test)]

@@ -87,22 +87,19 @@ pub(crate) struct Found<T = Line> {
 crate::simd::with_feature! {
     "avx2";
     /// Horizontal lines of a `w × h` luminance image.
-    pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found => horizontal_body
-}
-
-#[inline(always)]
-fn horizontal_body(l: &[u8], w: usize, h: usize) -> Found {
-    let runs = edge_runs(h, w, |b, steps| {
-        // boundary b between rows b-1 and b: the step down it
-        let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
-        for ((s, &u), &d) in steps.iter_mut().zip(up).zip(down) {
-            *s = d as i16 - u as i16;
+    pub(crate) fn horizontal(l: &[u8], w: usize, h: usize) -> Found => horizontal_body {
+        let runs = edge_runs(h, w, |b, steps| {
+            // boundary b between rows b-1 and b: the step down it
+            let (up, down) = (&l[(b - 1) * w..][..w], &l[b * w..][..w]);
+            for ((s, &u), &d) in steps.iter_mut().zip(up).zip(down) {
+                *s = d as i16 - u as i16;
+            }
+        });
+        Found {
+            solid: pair_thin(runs.solid),
+            chained: pair_thin(runs.chained),
+            weak: pair_thin(runs.weak),
         }
-    });
-    Found {
-        solid: pair_thin(runs.solid),
-        chained: pair_thin(runs.chained),
-        weak: pair_thin(runs.weak),
     }
 }
 

@@ -6,19 +6,16 @@ use crate::image::ImageRef;
 crate::simd::with_feature! {
     "avx2";
     /// Rec. 601 luma of every pixel (over white), row-major.
-    pub(crate) fn luma(image: ImageRef<'_>, out: &mut Vec<u8>) => luma_body
-}
-
-#[inline(always)]
-fn luma_body(image: ImageRef<'_>, out: &mut Vec<u8>) {
-    // Sized first, then one loop over both slices, in 16-bit lanes (every term fits): it runs
-    // in vectors, where `extend` from a mapped iterator went pixel by pixel.
-    out.clear();
-    out.resize(image.pixels().len(), 0);
-    for (o, p) in out.iter_mut().zip(image.pixels()) {
-        let a = p[3] as u16;
-        let y = (p[0] as u16 * 77 + p[1] as u16 * 150 + p[2] as u16 * 29) >> 8;
-        *o = div255(y * a + 255 * (255 - a) + 127);
+    pub(crate) fn luma(image: ImageRef<'_>, out: &mut Vec<u8>) => luma_body {
+        // Sized first, then one loop over both slices, in 16-bit lanes (every term fits): it runs
+        // in vectors, where `extend` from a mapped iterator went pixel by pixel.
+        out.clear();
+        out.resize(image.pixels().len(), 0);
+        for (o, p) in out.iter_mut().zip(image.pixels()) {
+            let a = p[3] as u16;
+            let y = (p[0] as u16 * 77 + p[1] as u16 * 150 + p[2] as u16 * 29) >> 8;
+            *o = div255(y * a + 255 * (255 - a) + 127);
+        }
     }
 }
 
@@ -103,15 +100,7 @@ mod tests {
     #[test]
     fn every_build_of_the_luma_gives_the_formulas_bytes() {
         let (w, h) = (37u32, 23u32);
-        let mut s = 0x9e37_79b9u32;
-        let px: Vec<[u8; 4]> = (0..w * h)
-            .map(|_| {
-                s ^= s << 13;
-                s ^= s >> 17;
-                s ^= s << 5;
-                s.to_le_bytes()
-            })
-            .collect();
+        let px = crate::image::noise_pixels((w * h) as usize, 0x9e37_79b9);
         let image = ImageRef::new(crate::image::Size::new(w, h).unwrap(), &px).unwrap();
         let (mut wide, mut base) = (Vec::new(), Vec::new());
         luma(image, &mut wide);

@@ -176,52 +176,49 @@ crate::simd::with_feature! {
     /// Pixels whose 3×3 luminance range exceeds [`STROKE_RANGE`]. Separable max and min over
     /// shifted row slices, so that the loops vectorize (a per-pixel window scan was most of the
     /// detection time).
-    fn stroke_mask(l: &[u8], w: usize, h: usize) -> Vec<bool> => stroke_mask_body
-}
-
-#[inline(always)]
-fn stroke_mask_body(l: &[u8], w: usize, h: usize) -> Vec<bool> {
-    let mut rmax = vec![0u8; w * h];
-    let mut rmin = vec![0u8; w * h];
-    for y in 0..h {
-        let row = &l[y * w..][..w];
-        let (omax, omin) = (&mut rmax[y * w..][..w], &mut rmin[y * w..][..w]);
-        omax.copy_from_slice(row);
-        omin.copy_from_slice(row);
-        if w > 1 {
-            for x in 0..w - 1 {
-                let r = row[x + 1];
-                omax[x] = omax[x].max(r);
-                omin[x] = omin[x].min(r);
-            }
-            for x in 1..w {
-                let l = row[x - 1];
-                omax[x] = omax[x].max(l);
-                omin[x] = omin[x].min(l);
+    fn stroke_mask(l: &[u8], w: usize, h: usize) -> Vec<bool> => stroke_mask_body {
+        let mut rmax = vec![0u8; w * h];
+        let mut rmin = vec![0u8; w * h];
+        for y in 0..h {
+            let row = &l[y * w..][..w];
+            let (omax, omin) = (&mut rmax[y * w..][..w], &mut rmin[y * w..][..w]);
+            omax.copy_from_slice(row);
+            omin.copy_from_slice(row);
+            if w > 1 {
+                for x in 0..w - 1 {
+                    let r = row[x + 1];
+                    omax[x] = omax[x].max(r);
+                    omin[x] = omin[x].min(r);
+                }
+                for x in 1..w {
+                    let l = row[x - 1];
+                    omax[x] = omax[x].max(l);
+                    omin[x] = omin[x].min(l);
+                }
             }
         }
-    }
-    let mut out = vec![false; w * h];
-    for y in 0..h {
-        let (a, b) = (y.saturating_sub(1), (y + 1).min(h - 1));
-        let (ma, mc, mb) = (
-            &rmax[a * w..][..w],
-            &rmax[y * w..][..w],
-            &rmax[b * w..][..w],
-        );
-        let (na, nc, nb) = (
-            &rmin[a * w..][..w],
-            &rmin[y * w..][..w],
-            &rmin[b * w..][..w],
-        );
-        let o = &mut out[y * w..][..w];
-        for x in 0..w {
-            let mx = ma[x].max(mc[x]).max(mb[x]);
-            let mn = na[x].min(nc[x]).min(nb[x]);
-            o[x] = mx - mn > STROKE_RANGE;
+        let mut out = vec![false; w * h];
+        for y in 0..h {
+            let (a, b) = (y.saturating_sub(1), (y + 1).min(h - 1));
+            let (ma, mc, mb) = (
+                &rmax[a * w..][..w],
+                &rmax[y * w..][..w],
+                &rmax[b * w..][..w],
+            );
+            let (na, nc, nb) = (
+                &rmin[a * w..][..w],
+                &rmin[y * w..][..w],
+                &rmin[b * w..][..w],
+            );
+            let o = &mut out[y * w..][..w];
+            for x in 0..w {
+                let mx = ma[x].max(mc[x]).max(mb[x]);
+                let mn = na[x].min(nc[x]).min(nb[x]);
+                o[x] = mx - mn > STROKE_RANGE;
+            }
         }
+        out
     }
-    out
 }
 
 /// Glyph-sized 8-connected components.
