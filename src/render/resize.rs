@@ -36,11 +36,6 @@ struct Axis {
     n: usize,
     taps: Vec<Taps>,
     weights: Vec<f32>,
-    /// The weights of [`Axis::padded`] taps again, laid out for [`Axis::filter_lanes`]: for
-    /// each [`LANES`] samples and each tap, two samples' weights side by side, each repeated
-    /// once per channel. A product of eight floats then takes its weights straight from
-    /// memory instead of spreading each across the channels first.
-    spread: Vec<[f32; 8]>,
 }
 
 impl Axis {
@@ -92,188 +87,215 @@ impl Axis {
                 }
             })
             .collect();
-        Axis {
-            n,
-            taps,
-            weights,
-            spread: Vec::new(),
-        }
+        Axis { n, taps, weights }
     }
+}
 
-    /// The same taps, each made `k` long (the most any has) by zero weights before or after
-    /// it, inside the row: the tap loop then runs the same length for every sample, and the
-    /// processor predicts its end instead of stalling on it every few samples. A zero weight
-    /// adds nothing and bounds nothing, so the samples are the same.
-    fn padded(self) -> Axis {
-        let n = self.n;
-        let k = (self.taps.iter().map(|t| t.weights.len()).max()).map_or(0, |k| k.min(n));
-        let mut weights = Vec::with_capacity(k * self.taps.len());
-        let taps: Vec<Taps> = (self.taps.iter())
+/// Fractional bits of [`Across`]'s integer weights. A sum of products of bytes and weights
+/// then fits 32 bits with room for [`round_sums`]' factor of 257, and a weight is off its
+/// float by at most 2⁻¹⁵: a sample moves by a few hundredths of a level at most, and
+/// comes out one level off the float resize's in about one sample of a hundred that are
+/// not flat (where the sum lands beside a level's edge).
+const WEIGHT_BITS: u32 = 14;
+
+/// [`WEIGHT_BITS`]' one: every sample's weights sum to it exactly, so flat stays flat.
+const ONE: i32 = 1 << WEIGHT_BITS;
+
+/// The taps of an axis resampled along rows, in integers: bytes times 16-bit weights summed
+/// in 32 bits, sixteen products to an instruction (`pmaddwd`) where floats took eight, and
+/// no row converted to floats first. Integer sums do not depend on their order: every build
+/// and every machine gives the same bytes.
+struct Across {
+    /// Source and output samples.
+    n: usize,
+    m: usize,
+    /// Taps of every sample, made equally many by zero weights before or after a sample's
+    /// own taps, inside the row: a multiple of four where the row is that long, so the wide
+    /// loop takes four at a time.
+    k: usize,
+    /// Each sample's first source sample.
+    starts: Vec<usize>,
+    /// `k` weights per sample, summing to [`ONE`].
+    weights: Vec<i16>,
+}
+
+impl Across {
+    fn new(axis: &Axis) -> Across {
+        let n = axis.n;
+        let most = (axis.taps.iter().map(|t| t.weights.len()).max()).map_or(0, |k| k.min(n));
+        let k = match most.next_multiple_of(4) {
+            k4 if k4 <= n => k4,
+            _ => most,
+        };
+        let mut weights = Vec::with_capacity(k * axis.taps.len());
+        let starts = (axis.taps.iter())
             .map(|t| {
                 let start = t.start.min(n - k);
-                let front = t.start - start;
                 let first = weights.len();
-                weights.resize(first + front, 0.0);
-                weights.extend_from_slice(&self.weights[t.weights.clone()]);
-                weights.resize(first + k, 0.0);
-                Taps {
-                    start,
-                    weights: first..first + k,
+                weights.resize(first + (t.start - start), 0);
+                let own = &axis.weights[t.weights.clone()];
+                weights.extend(own.iter().map(|&w| (w * ONE as f32).round() as i16));
+                weights.resize(first + k, 0);
+                // Rounding leaves the sum a little off one: the largest weight takes the rest.
+                let w = &mut weights[first..];
+                let rest = ONE - w.iter().map(|&v| i32::from(v)).sum::<i32>();
+                if let Some(top) = (0..k).max_by_key(|&j| w[j]) {
+                    w[top] = (i32::from(w[top]) + rest) as i16;
                 }
+                start
             })
             .collect();
-        let spread = (taps.chunks_exact(LANES))
-            .flat_map(|q| {
-                let w = |l: usize, j: usize| weights[q[l].weights.start + j];
-                (0..k).flat_map(move |j| {
-                    std::array::from_fn::<_, { LANES / 2 }, _>(|p| {
-                        let l = 2 * p;
-                        let (a, b) = (w(l, j), w(l + 1, j));
-                        [a, a, a, a, b, b, b, b]
-                    })
-                })
-            })
-            .collect();
-        Axis {
+        Across {
             n,
-            taps,
+            m: axis.taps.len(),
+            k,
+            starts,
             weights,
-            spread,
         }
     }
 
-    /// Sample `i` of a `row` of source samples.
-    #[inline(always)]
-    fn filter(&self, i: usize, row: &[[f32; 4]]) -> [f32; 4] {
-        let t = &self.taps[i];
-        let weights = &self.weights[t.weights.clone()];
-        let src = &row[t.start..][..weights.len()];
-        let mut acc = [0f32; 4];
-        for (&w, v) in weights.iter().zip(src) {
-            for c in 0..4 {
-                acc[c] += w * v[c];
-            }
+    /// The sums of each of `R` rows of source samples (`n` each) resampled into `out` (`m`
+    /// each): each channel's bytes times the weights, in units of [`ONE`].
+    fn sums<const R: usize>(&self, rows: [&[[u8; 4]]; R], out: [&mut [[i32; 4]]; R]) {
+        for r in 0..R {
+            assert!(rows[r].len() >= self.n && out[r].len() >= self.m);
         }
-        acc
+        #[cfg(target_arch = "x86_64")]
+        if self.k.is_multiple_of(4) && std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2, checked just above; the rows' lengths are
+            // checked above, and `k` is a multiple of four.
+            unsafe { self.sums_avx2(rows, out) };
+            return;
+        }
+        for (row, out) in rows.into_iter().zip(out) {
+            self.sums_one_by_one(row, out);
+        }
     }
 
-    /// Samples `i..i + LANES` of each of `R` rows (`i` a multiple of [`LANES`]), as
-    /// [`Axis::filter`] each (the same products, summed in the same order): two samples' four
-    /// channels in one row of eight floats, their weights from [`Axis::spread`], each weight
-    /// read once for all `R` rows. The sums are independent, so the processor overlaps them
-    /// instead of waiting on each addition.
+    /// [`Across::sums`] of one row, one product at a time: every build's reference.
     #[inline(always)]
-    fn filter_lanes<const R: usize>(
-        &self,
-        i: usize,
-        rows: [&[[f32; 4]]; R],
-    ) -> [[[f32; 4]; LANES]; R] {
-        const PAIRS: usize = LANES / 2;
-        let k = self.taps[i].weights.len();
-        let taps = &self.taps[i..i + LANES];
-        let mut src: [[&[[f32; 4]]; LANES]; R] = [[&[]; LANES]; R];
-        for (src, row) in src.iter_mut().zip(rows) {
-            for (s, t) in src.iter_mut().zip(taps) {
-                *s = &row[t.start..][..k];
-            }
-        }
-        let spread = &self.spread[i / LANES * PAIRS * k..][..PAIRS * k];
-        let mut acc = [[[0f32; 8]; PAIRS]; R];
-        for j in 0..k {
-            for p in 0..PAIRS {
-                let w = spread[PAIRS * j + p];
-                for r in 0..R {
-                    let (a, b) = (src[r][2 * p][j], src[r][2 * p + 1][j]);
-                    let v = [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]];
-                    for c in 0..8 {
-                        acc[r][p][c] += w[c] * v[c];
-                    }
+    fn sums_one_by_one(&self, row: &[[u8; 4]], out: &mut [[i32; 4]]) {
+        let k = self.k;
+        for ((o, &start), w) in out.iter_mut().zip(&self.starts).zip(self.weights.chunks(k)) {
+            let mut acc = [0i32; 4];
+            for (&w, p) in w.iter().zip(&row[start..start + k]) {
+                for c in 0..4 {
+                    acc[c] += i32::from(w) * i32::from(p[c]);
                 }
             }
+            *o = acc;
         }
-        let mut out = [[[0f32; 4]; LANES]; R];
-        for (out, acc) in out.iter_mut().zip(&acc) {
-            for (l, o) in out.iter_mut().enumerate() {
-                o.copy_from_slice(&acc[l / 2][4 * (l % 2)..][..4]);
-            }
-        }
-        out
     }
 
-    /// Resamples the rows of `px` (`n` samples each) from row `first` on into rows of this
-    /// axis's `m` samples, handing each to `out_row(y, row)` (`y` counted from `first`).
+    /// [`Across::sums`] by AVX2, four taps of one sample at a time: their four pixels (16
+    /// bytes) spread into two pairs of 16-bit channels, multiplied by two pairs of weights
+    /// and summed pairwise (`pmaddwd`), each weight read once for all `R` rows.
+    ///
+    /// # Safety
+    /// The processor has AVX2, `k` is a multiple of four, every row holds `n` samples and
+    /// every output row `m`.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sums_avx2<const R: usize>(&self, rows: [&[[u8; 4]]; R], out: [&mut [[i32; 4]]; R]) {
+        use std::arch::x86_64::*;
+        // Four pixels (r g b a, four times) in both halves: the low half spreads pixels 0
+        // and 1 into 16-bit numbers [r0 r1 g0 g1 b0 b1 a0 a1], the high half pixels 2 and 3.
+        let spread_px = _mm256_setr_epi8(
+            0, -1, 4, -1, 1, -1, 5, -1, 2, -1, 6, -1, 3, -1, 7, -1, //
+            8, -1, 12, -1, 9, -1, 13, -1, 10, -1, 14, -1, 11, -1, 15, -1,
+        );
+        // Four weights [w0 w1 w2 w3] in every quarter: w0 w1 repeated in the low half, w2
+        // w3 in the high half, to meet the pixels' pairs.
+        let spread_w = _mm256_setr_epi8(
+            0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, //
+            4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7,
+        );
+        let k = self.k;
+        let rows = rows.map(|r| r.as_ptr());
+        let out = out.map(|o| o.as_mut_ptr());
+        for (x, (&start, w)) in self
+            .starts
+            .iter()
+            .zip(self.weights.chunks_exact(k))
+            .enumerate()
+        {
+            let mut acc = [_mm256_setzero_si256(); R];
+            for (g, w) in w.chunks_exact(4).enumerate() {
+                // SAFETY: `w` holds four weights (eight bytes).
+                let w = unsafe { std::ptr::read_unaligned(w.as_ptr() as *const i64) };
+                let w = _mm256_shuffle_epi8(_mm256_set1_epi64x(w), spread_w);
+                for r in 0..R {
+                    // SAFETY: `start + k <= n` (built so), and the row holds `n` pixels.
+                    let p = unsafe { rows[r].add(start + 4 * g) } as *const __m128i;
+                    let p = _mm256_broadcastsi128_si256(unsafe { _mm_loadu_si128(p) });
+                    let p = _mm256_shuffle_epi8(p, spread_px);
+                    acc[r] = _mm256_add_epi32(acc[r], _mm256_madd_epi16(p, w));
+                }
+            }
+            for r in 0..R {
+                let lo = _mm256_castsi256_si128(acc[r]);
+                let s = _mm_add_epi32(lo, _mm256_extracti128_si256::<1>(acc[r]));
+                // SAFETY: `x < m`, and the output row holds `m` samples.
+                unsafe { _mm_storeu_si128(out[r].add(x) as *mut __m128i, s) };
+            }
+        }
+    }
+
+    /// Source rows `first..` of `px` resampled into `band`'s rows (`m` each), rounded:
+    /// four rows at a time, each weight read once for the four.
     #[inline(always)]
-    fn across(
-        &self,
-        px: &[[u8; 4]],
-        first: usize,
-        rows: usize,
-        mut out_row: impl FnMut(usize, &[[f32; 4]]),
-    ) {
-        let (n, m) = (self.n, self.taps.len());
-        let mut rowf = [vec![[0f32; 4]; n], vec![[0f32; 4]; n]];
-        let mut out = [vec![[0f32; 4]; m], vec![[0f32; 4]; m]];
+    fn rounded(&self, px: &[[u8; 4]], first: usize, band: &mut [[u8; 4]]) {
+        let (n, m) = (self.n, self.m);
+        let rows = band.len() / m.max(1);
+        let mut sums = vec![[0i32; 4]; 4 * m];
+        let src = |y: usize| &px[(first + y) * n..][..n];
         let mut y = 0;
         while y < rows {
-            // Two rows at a time where two are left: each weight read once for both.
-            let pair = y + 1 < rows;
-            for (r, f) in rowf.iter_mut().enumerate().take(1 + pair as usize) {
-                let row = &px[(first + y + r) * n..][..n];
-                for (f, &p) in f.as_flattened_mut().iter_mut().zip(row.as_flattened()) {
-                    *f = f32::from(p);
+            let (s0, rest) = sums.split_at_mut(m);
+            let (s1, rest) = rest.split_at_mut(m);
+            let (s2, s3) = rest.split_at_mut(m);
+            let quad = (rows - y).min(4);
+            if quad == 4 {
+                self.sums(
+                    [src(y), src(y + 1), src(y + 2), src(y + 3)],
+                    [s0, s1, s2, s3],
+                );
+            } else {
+                for (r, s) in [s0, s1, s2].into_iter().enumerate().take(quad) {
+                    self.sums([src(y + r)], [s]);
                 }
             }
-            // [`LANES`] samples at a time, each summing its taps in order (the same bytes as
-            // one at a time).
-            let done = m - m % LANES;
-            let [oa, ob] = &mut out;
-            for q in (0..done).step_by(LANES) {
-                if pair {
-                    let [a, b] = self.filter_lanes(q, [&rowf[0], &rowf[1]]);
-                    oa[q..q + LANES].copy_from_slice(&a);
-                    ob[q..q + LANES].copy_from_slice(&b);
-                } else {
-                    let [a] = self.filter_lanes(q, [&rowf[0]]);
-                    oa[q..q + LANES].copy_from_slice(&a);
-                }
+            let out = band[y * m..(y + quad) * m].chunks_exact_mut(m);
+            for (o, s) in out.zip(sums.chunks_exact(m)) {
+                round_sums(s, o);
             }
-            for x in done..m {
-                oa[x] = self.filter(x, &rowf[0]);
-                if pair {
-                    ob[x] = self.filter(x, &rowf[1]);
-                }
-            }
-            out_row(y, oa);
-            if pair {
-                out_row(y + 1, ob);
-            }
-            y += 1 + pair as usize;
+            y += quad;
         }
     }
-}
 
-impl Axis {
-    /// One row of source samples (`src`, converted into the scratch row `rowf`) resampled
-    /// into `out`, as [`Axis::across`] makes each row.
+    /// One row of source samples resampled into `out` as floats (the sums over [`ONE`],
+    /// exact): what the pass down the columns reads. `sums` is scratch space of `m`.
     #[inline(always)]
-    fn row(&self, src: &[[u8; 4]], rowf: &mut [[f32; 4]], out: &mut [[f32; 4]]) {
-        for (f, &p) in rowf.as_flattened_mut().iter_mut().zip(src.as_flattened()) {
-            *f = f32::from(p);
-        }
-        let m = self.taps.len();
-        let done = m - m % LANES;
-        for q in (0..done).step_by(LANES) {
-            let [a] = self.filter_lanes(q, [&*rowf]);
-            out[q..q + LANES].copy_from_slice(&a);
-        }
-        for (x, o) in out.iter_mut().enumerate().skip(done) {
-            *o = self.filter(x, rowf);
+    fn row(&self, src: &[[u8; 4]], sums: &mut [[i32; 4]], out: &mut [[f32; 4]]) {
+        self.sums([src], [&mut *sums]);
+        for (o, &s) in out.as_flattened_mut().iter_mut().zip(sums.as_flattened()) {
+            *o = s as f32 * (1.0 / ONE as f32);
         }
     }
 }
 
-/// Output samples filtered together by [`Axis::filter_lanes`].
-const LANES: usize = 8;
+/// Sums of [`Across`] (in units of [`ONE`]) written as bytes the way [`quantize`] writes a
+/// float, in integers and exactly: the nearest 16-bit level (`⌊(257 s + ONE/2) / ONE⌋`,
+/// in 0..=65535), then the 8-bit level below it.
+#[inline(always)]
+fn round_sums(sums: &[[i32; 4]], out: &mut [[u8; 4]]) {
+    for (o, &s) in out.as_flattened_mut().iter_mut().zip(sums.as_flattened()) {
+        // |s| stays under 2 · 255 · ONE (no weight sum is near 2): 257 s fits 32 bits.
+        let q = (s.wrapping_mul(257).wrapping_add(ONE / 2) >> WEIGHT_BITS).clamp(0, 65_535);
+        // ⌊q / 257⌋ by a multiply and a shift, exact for every q in 0..=65535.
+        *o = ((q as u32 * 65_281) >> 24) as u8;
+    }
+}
 
 /// Each float of `row` as ImageMagick's 16-bit build stores a resized sample and writes
 /// it at 8 bits: rounded to the nearest 16-bit level, then cut to the 8-bit level below
@@ -310,14 +332,12 @@ fn quantize(v: f32) -> u8 {
 }
 
 crate::simd::with_feature! {
-    "avx";
-    /// Rows `first..` of `px` resampled across into `band`'s rows, rounded.
-    fn across_rounded(across: &Axis, px: &[[u8; 4]], first: usize, band: &mut [[u8; 4]])
+    "avx2";
+    /// Rows `first..` of `px` resampled across into `band`'s rows, rounded (the rounding
+    /// eight samples to an instruction where AVX2 multiplies 32-bit lanes).
+    fn across_rounded(across: &Across, px: &[[u8; 4]], first: usize, band: &mut [[u8; 4]])
         => across_rounded_body {
-        let tw = across.taps.len();
-        across.across(px, first, band.len() / tw, |y, row| {
-            round_row(row, &mut band[y * tw..][..tw])
-        })
+        across.rounded(px, first, band)
     }
 }
 
@@ -328,7 +348,7 @@ crate::simd::with_feature! {
     /// once into a ring of as many rows as the longest tap: a band reads its rows while they
     /// are in cache, and no picture-sized buffer of floats is filled and read back.
     fn both_rounded(
-        across: Option<&Axis>,
+        across: Option<&Across>,
         down: &Axis,
         px: &[[u8; 4]],
         tw: usize,
@@ -346,7 +366,7 @@ crate::simd::with_feature! {
         // most `cap`, so they never share a slot; the rows wanted only move down the picture
         // (but for a map's bends, where a row made again costs time, not bytes).
         let mut held = vec![usize::MAX; cap];
-        let (mut rowf, mut acc) = (vec![[0f32; 4]; sw], vec![[0f32; 4]; tw]);
+        let (mut sums, mut acc) = (vec![[0i32; 4]; tw], vec![[0f32; 4]; tw]);
         for (t, orow) in taps.iter().zip(band.chunks_exact_mut(tw)) {
             let len = t.weights.len();
             for j in t.start..t.start + len {
@@ -356,7 +376,7 @@ crate::simd::with_feature! {
                 }
                 let (src, dst) = (&px[j * sw..][..sw], &mut ring[slot * tw..][..tw]);
                 match across {
-                    Some(a) => a.row(src, &mut rowf, dst),
+                    Some(a) => a.row(src, &mut sums, dst),
                     None => {
                         for (o, &p) in dst.as_flattened_mut().iter_mut().zip(src.as_flattened()) {
                             *o = f32::from(p);
@@ -502,14 +522,14 @@ fn resize_axes(
     );
     let Some(down) = down else {
         // Across only, rounded straight into the output.
-        let across = across.expect("an axis changes").padded();
+        let across = Across::new(&across.expect("an axis changes"));
         in_bands(out.pixels_mut(), tw, threads, |first, band| {
             across_rounded(&across, px, first, band)
         });
         return out;
     };
     // Down, from the rows across makes (an axis that keeps its size is copied).
-    let across = across.map(Axis::padded);
+    let across = across.as_ref().map(Across::new);
     in_bands(out.pixels_mut(), tw, threads, |first, band| {
         both_rounded(across.as_ref(), &down, px, tw, first, band)
     });
@@ -652,39 +672,113 @@ mod tests {
     }
 
     /// The resize as its formula reads, one sample at a time: the taps in order, the across
-    /// pass kept in floats.
+    /// pass in integers (weights in units of [`ONE`]), the pass down in floats.
     fn reference(src: &Image, target: Size) -> Image {
         let (sw, sh) = (src.width() as usize, src.height() as usize);
         let (tw, th) = (target.width as usize, target.height as usize);
-        let one = |axis: &Axis, i: usize, at: &dyn Fn(usize) -> [f32; 4]| {
-            let t = &axis.taps[i];
-            let mut acc = [0f32; 4];
-            for (k, &w) in axis.weights[t.weights.clone()].iter().enumerate() {
-                let v = at(t.start + k);
+        let (across, down) = (Across::new(&Axis::new(sw, tw)), Axis::new(sh, th));
+        let sums = |x: usize, y: usize| {
+            let w = &across.weights[x * across.k..][..across.k];
+            let mut acc = [0i64; 4];
+            for (j, &w) in w.iter().enumerate() {
+                let v = src.get((across.starts[x] + j) as u32, y as u32);
                 for c in 0..4 {
-                    acc[c] += w * v[c];
+                    acc[c] += w as i64 * v[c] as i64;
                 }
             }
             acc
         };
-        let (across, down) = (Axis::new(sw, tw), Axis::new(sh, th));
-        let px = |x: usize, y: usize| src.get(x as u32, y as u32).map(f32::from);
-        let mid: Vec<[f32; 4]> = (0..sh * tw)
-            .map(|i| match tw == sw {
-                true => px(i % tw, i / tw),
-                false => one(&across, i % tw, &|j| px(j, i / tw)),
-            })
-            .collect();
         let data = (0..th * tw)
             .map(|i| {
-                let v = match th == sh {
-                    true => mid[i],
-                    false => one(&down, i / tw, &|j| mid[j * tw + i % tw]),
+                let (x, y) = (i % tw, i / tw);
+                if th == sh {
+                    // Across alone: the sums, to the nearest 16-bit level, to the 8-bit level below.
+                    return sums(x, y).map(|s| {
+                        let q = ((257 * s + ONE as i64 / 2) as f64 / ONE as f64).floor();
+                        (q.clamp(0.0, 65_535.0) / 257.0).floor() as u8
+                    });
+                }
+                let mid = |j: usize| match tw == sw {
+                    true => src.get(x as u32, j as u32).map(f32::from),
+                    false => sums(x, j).map(|s| s as f32 / ONE as f32),
                 };
-                v.map(|c| ((c * 257.0 + 0.5).clamp(0.0, 65_535.5) as u32 / 257) as u8)
+                let t = &down.taps[y];
+                let mut acc = [0f32; 4];
+                for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
+                    let v = mid(t.start + k);
+                    for c in 0..4 {
+                        acc[c] += w * v[c];
+                    }
+                }
+                acc.map(|c| ((c * 257.0 + 0.5).clamp(0.0, 65_535.5) as u32 / 257) as u8)
             })
             .collect();
         Image::from_pixels(target, data).unwrap()
+    }
+
+    /// The integer weights sum to one exactly, and stay within a rounding of the floats.
+    #[test]
+    fn integer_weights_sum_to_one_and_follow_the_floats() {
+        for (n, m) in [
+            (1280, 720),
+            (37, 23),
+            (5, 3),
+            (3, 11),
+            (1, 4),
+            (90, 1),
+            (8, 8),
+        ] {
+            let axis = Axis::new(n, m);
+            let across = Across::new(&axis);
+            for x in 0..m {
+                let w = &across.weights[x * across.k..][..across.k];
+                assert_eq!(
+                    w.iter().map(|&v| v as i32).sum::<i32>(),
+                    ONE,
+                    "{n}->{m} {x}"
+                );
+                assert!(across.starts[x] + across.k <= n);
+                // Each float tap is found at its place in the integers (the largest takes
+                // the others' rounding, at most half a unit each).
+                let t = &axis.taps[x];
+                for (j, &f) in axis.weights[t.weights.clone()].iter().enumerate() {
+                    let i = w[t.start + j - across.starts[x]];
+                    let off = (i as f32 - f * ONE as f32).abs();
+                    assert!(off <= 0.5 * across.k as f32 + 1e-3, "{f} {i}");
+                }
+            }
+        }
+    }
+
+    /// The integer rounding is the formula's, for every sum a byte and a weight sum can make.
+    #[test]
+    fn sums_round_by_the_formula() {
+        let sums: Vec<i32> = (-70 * ONE..=320 * ONE)
+            .step_by(7)
+            .chain([ONE * 255, 0])
+            .collect();
+        let row: Vec<[i32; 4]> = sums
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        let mut out = vec![[0u8; 4]; row.len()];
+        round_sums(&row, &mut out);
+        for (&s, &o) in row.as_flattened().iter().zip(out.as_flattened()) {
+            let q = ((257 * s as i64 + ONE as i64 / 2) as f64 / ONE as f64).floor();
+            assert_eq!(o, (q.clamp(0.0, 65_535.0) / 257.0).floor() as u8, "{s}");
+        }
+        // Whole levels stay whole.
+        let levels: Vec<[i32; 4]> = (0..64)
+            .map(|l| [4 * l, 4 * l + 1, 4 * l + 2, 4 * l + 3])
+            .collect();
+        round_sums(
+            &levels
+                .iter()
+                .map(|l| l.map(|v| v * ONE))
+                .collect::<Vec<_>>(),
+            &mut out[..64],
+        );
+        assert!((0..256).all(|v| out.as_flattened()[v] == v as u8));
     }
 
     #[test]
@@ -701,7 +795,7 @@ mod tests {
                 ]
             })
             .collect();
-        let (across, down) = (Axis::new(sw, tw).padded(), Axis::new(sh, th));
+        let (across, down) = (Across::new(&Axis::new(sw, tw)), Axis::new(sh, th));
         let mut whole = vec![[0u8; 4]; th * tw];
         both_rounded(Some(&across), &down, &px, tw, 0, &mut whole);
         for split in [1, 17, 39] {
@@ -772,6 +866,29 @@ mod tests {
             proptest::prop_assert!(fast.pixels() == slow.pixels());
         }
 
+        /// The sums by AVX2 (where this processor has it), four rows or one at a time, are
+        /// the sums one product at a time.
+        #[test]
+        fn the_wide_sums_are_the_one_by_one_sums(
+            sw in 1u32..300, tw in 1u32..300, seed: u32,
+        ) {
+            let (sw, tw) = (sw as usize, tw as usize);
+            let px = crate::image::noise_pixels(4 * sw, seed);
+            let across = Across::new(&Axis::new(sw, tw));
+            let rows: [&[[u8; 4]]; 4] = std::array::from_fn(|r| &px[r * sw..][..sw]);
+            let mut want = vec![[0i32; 4]; 4 * tw];
+            for (r, w) in want.chunks_exact_mut(tw).enumerate() {
+                across.sums_one_by_one(rows[r], w);
+            }
+            let mut got = vec![[0i32; 4]; 4 * tw];
+            let [g0, g1, g2, g3] = got.chunks_exact_mut(tw).collect::<Vec<_>>().try_into().unwrap();
+            across.sums(rows, [g0, g1, g2, g3]);
+            proptest::prop_assert!(got == want);
+            let mut one = vec![[0i32; 4]; tw];
+            across.sums([rows[2]], [&mut one]);
+            proptest::prop_assert!(one[..] == want[2 * tw..3 * tw]);
+        }
+
         /// The loops compiled for AVX (where this processor has it) and for the baseline
         /// give the same bytes: a picture does not depend on the machine that drew it. (On a
         /// processor without AVX both calls run the baseline, and this holds trivially.)
@@ -781,7 +898,7 @@ mod tests {
         ) {
             let px = crate::image::noise_pixels((sw * sh) as usize, seed);
             let (sw, sh, tw, th) = (sw as usize, sh as usize, tw as usize, th as usize);
-            let across = Axis::new(sw, tw).padded();
+            let across = Across::new(&Axis::new(sw, tw));
             let (mut a, mut b) = (vec![[0u8; 4]; sh * tw], vec![[0u8; 4]; sh * tw]);
             across_rounded(&across, &px, 0, &mut a);
             across_rounded_body(&across, &px, 0, &mut b);
