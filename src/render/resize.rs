@@ -285,15 +285,16 @@ impl Across {
 }
 
 /// Sums of [`Across`] (in units of [`ONE`]) written as bytes the way [`quantize`] writes a
-/// float, in integers and exactly: the nearest 16-bit level (`⌊(257 s + ONE/2) / ONE⌋`,
-/// in 0..=65535), then the 8-bit level below it.
+/// float, in integers and exactly: the nearest 16-bit level, `q = ⌊(257 s + ONE/2) / ONE⌋`
+/// in 0..=65535, then the 8-bit level below it, `⌊q / 257⌋`. The two floors are one,
+/// `⌊(257 s + ONE/2) / (257 ONE)⌋`; with `ONE/2 = 257 h + r` (`r < 257`) and `s + h = a ONE
+/// + b` (`0 ≤ b < ONE`) that is `a + (257 b + r) / (257 ONE)`, whose fraction stays below one.
+/// So the byte is `⌊(s + h) / ONE⌋`, clamped to 0..=255.
 #[inline(always)]
 fn round_sums(sums: &[[i32; 4]], out: &mut [[u8; 4]]) {
+    const H: i32 = ONE / 2 / 257;
     for (o, &s) in out.as_flattened_mut().iter_mut().zip(sums.as_flattened()) {
-        // |s| stays under 2 · 255 · ONE (no weight sum is near 2): 257 s fits 32 bits.
-        let q = (s.wrapping_mul(257).wrapping_add(ONE / 2) >> WEIGHT_BITS).clamp(0, 65_535);
-        // ⌊q / 257⌋ by a multiply and a shift, exact for every q in 0..=65535.
-        *o = ((q as u32 * 65_281) >> 24) as u8;
+        *o = ((s + H) >> WEIGHT_BITS).clamp(0, 255) as u8;
     }
 }
 
