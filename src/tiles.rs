@@ -109,7 +109,8 @@ impl TileMask {
 
 /// Tiles of `tile_px` where `prev` and `now` (the same size) differ, with `prev` made a copy
 /// of `now`: a row is copied only where it differs, right after it was compared (a stream's
-/// unchanged rows are never copied, and the changed ones are still in cache).
+/// unchanged rows are never copied, and the changed ones are still in cache), and a tile is
+/// compared only until a difference is found in it.
 pub(crate) fn take_changed_tiles(prev: &mut Image, now: &Image, tile_px: u32) -> TileMask {
     let size = prev.size();
     let mut mask = TileMask::new(size, tile_px);
@@ -124,7 +125,8 @@ pub(crate) fn take_changed_tiles(prev: &mut Image, now: &Image, tile_px: u32) ->
         }
         let row = (y / t) as u32;
         for (c, (ca, cb)) in ra.chunks(t).zip(rb.chunks(t)).enumerate() {
-            if ca != cb {
+            // A tile found changed in a row above needs no comparing again.
+            if !mask.get(c as u32, row) && ca != cb {
                 mask.set(c as u32, row);
             }
         }
