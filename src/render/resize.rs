@@ -386,11 +386,41 @@ crate::simd::with_feature! {
                 }
                 held[slot] = j;
             }
+            let weights = &down.weights[t.weights.clone()];
+            let ring_row = |k: usize| ring[(t.start + k) % cap * tw..][..tw].as_flattened();
+            if weights.len() <= MOST_DOWN_TAPS {
+                // Eight floats at a time, all taps summed in registers, then rounded: the
+                // row of sums is never stored and read back once per tap.
+                let mut rows = [&[][..]; MOST_DOWN_TAPS];
+                for (k, r) in rows.iter_mut().enumerate().take(weights.len()) {
+                    *r = ring_row(k);
+                }
+                let rows = &rows[..weights.len()];
+                let out = orow.as_flattened_mut();
+                let done = out.len() - out.len() % 8;
+                let mut chunks = out[..done].chunks_exact_mut(8);
+                for (i, o) in (&mut chunks).enumerate() {
+                    let mut acc = [0f32; 8];
+                    for (r, &w) in rows.iter().zip(weights) {
+                        let v: &[f32; 8] = r[8 * i..][..8].try_into().expect("eight");
+                        for c in 0..8 {
+                            acc[c] += w * v[c];
+                        }
+                    }
+                    for c in 0..8 {
+                        o[c] = quantize(acc[c]);
+                    }
+                }
+                for (i, o) in out.iter_mut().enumerate().skip(done) {
+                    let sum = rows.iter().zip(weights).fold(0.0, |a, (r, &w)| a + w * r[i]);
+                    *o = quantize(sum);
+                }
+                continue;
+            }
             acc.fill([0.0; 4]);
-            for (k, &w) in down.weights[t.weights.clone()].iter().enumerate() {
+            for (k, &w) in weights.iter().enumerate() {
                 // Flat loops over the row's floats: vectors, whatever the channel count.
-                let row = ring[(t.start + k) % cap * tw..][..tw].as_flattened();
-                for (a, &v) in acc.as_flattened_mut().iter_mut().zip(row) {
+                for (a, &v) in acc.as_flattened_mut().iter_mut().zip(ring_row(k)) {
                     *a += w * v;
                 }
             }
@@ -398,6 +428,10 @@ crate::simd::with_feature! {
         }
     }
 }
+
+/// Most taps down a column summed in registers ([`both_rounded`]); a wider filter (a
+/// picture shrunk to under an eighth) sums row by row.
+const MOST_DOWN_TAPS: usize = 32;
 
 /// Least rows per thread: below this a thread costs more than it saves.
 const ROWS_PER_THREAD: usize = 64;
