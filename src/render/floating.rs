@@ -1483,7 +1483,8 @@ impl Floating {
     }
 
     /// Fills the floating marks' pixels of `image` (the source) from their surroundings, so
-    /// the warp shows the ground under them. `scratch` is a reusable buffer.
+    /// the warp shows the ground under them. `scratch` is a reusable buffer, all clear
+    /// between calls (cleared where it was set, not over the whole frame each time).
     pub fn paint_out(
         &self,
         image: &mut Image,
@@ -1491,8 +1492,11 @@ impl Floating {
         scratch: &mut Vec<bool>,
     ) {
         let w = image.width() as usize;
-        scratch.clear();
-        scratch.resize(image.pixels().len(), false);
+        if scratch.len() != image.pixels().len() {
+            scratch.clear();
+            scratch.resize(image.pixels().len(), false);
+        }
+        debug_assert!(scratch.iter().all(|&m| !m), "scratch left clear");
         let mut todo = Vec::new();
         for p in &self.pastes {
             for (y, x) in p.pixels() {
@@ -1503,18 +1507,16 @@ impl Floating {
                 }
             }
         }
-        let Some(st) = lines else {
-            fill_from_surroundings(image, scratch, todo);
-            return;
-        };
-        // Ground first, then the lines through it (filled from lines, the ground would
-        // smudge grey around them).
         let masked = todo.clone();
         fill_from_surroundings(image, scratch, todo);
-        for &i in &masked {
-            scratch[i as usize] = true;
+        if let Some(st) = lines {
+            // Ground first, then the lines through it (filled from lines, the ground would
+            // smudge grey around them).
+            for &i in &masked {
+                scratch[i as usize] = true;
+            }
+            continue_lines(image, st, scratch);
         }
-        continue_lines(image, st, scratch);
         for &i in &masked {
             scratch[i as usize] = false;
         }
