@@ -208,14 +208,16 @@ crate::simd::with_feature! {
                 across(y + 1, &mut rmax, &mut rmin);
             }
             let (a, b) = (y.saturating_sub(1), (y + 1).min(h - 1));
-            let slot = |r: usize| r % 3 * w..(r % 3 + 1) * w;
-            let (ma, mc, mb) = (&rmax[slot(a)], &rmax[slot(y)], &rmax[slot(b)]);
-            let (na, nc, nb) = (&rmin[slot(a)], &rmin[slot(y)], &rmin[slot(b)]);
+            // Slices of exactly `w` (as `[start..][..w]`): the loop below then runs free of
+            // bounds checks, in vectors.
+            let (sa, sy, sb) = (a % 3 * w, y % 3 * w, b % 3 * w);
+            let (ma, mc, mb) = (&rmax[sa..][..w], &rmax[sy..][..w], &rmax[sb..][..w]);
+            let (na, nc, nb) = (&rmin[sa..][..w], &rmin[sy..][..w], &rmin[sb..][..w]);
             let o = &mut out[y * w..][..w];
-            for x in 0..w {
-                let mx = ma[x].max(mc[x]).max(mb[x]);
-                let mn = na[x].min(nc[x]).min(nb[x]);
-                o[x] = mx - mn > STROKE_RANGE;
+            let maxima = ma.iter().zip(mc).zip(mb);
+            let minima = na.iter().zip(nc).zip(nb);
+            for (o, (((&ma, &mc), &mb), ((&na, &nc), &nb))) in o.iter_mut().zip(maxima.zip(minima)) {
+                *o = ma.max(mc).max(mb) - na.min(nc).min(nb) > STROKE_RANGE;
             }
         }
         out
