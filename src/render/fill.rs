@@ -13,13 +13,36 @@ use crate::image::Image;
 /// disc of radius r cost r times its area.)
 pub(crate) fn fill_from_surroundings(image: &mut Image, masked: &mut [bool], mut todo: Vec<u32>) {
     let (w, h) = (image.width() as usize, image.height() as usize);
-    // The 8-neighbours of pixel `i` inside the image.
-    let around = move |i: u32| {
-        let (x, y) = (i as usize % w, i as usize / w);
-        (y.saturating_sub(1)..(y + 2).min(h))
-            .flat_map(move |ny| (x.saturating_sub(1)..(x + 2).min(w)).map(move |nx| ny * w + nx))
-            .filter(move |&j| j != i as usize)
+    // The 8-neighbours of pixel `i` inside the image, into `out`; how many. Inside the
+    // frame, by fixed offsets.
+    let around = move |i: u32, out: &mut [usize; 8]| -> usize {
+        let i = i as usize;
+        let (x, y) = (i % w, i / w);
+        if x > 0 && y > 0 && x + 1 < w && y + 1 < h {
+            *out = [
+                i - w - 1,
+                i - w,
+                i - w + 1,
+                i - 1,
+                i + 1,
+                i + w - 1,
+                i + w,
+                i + w + 1,
+            ];
+            return 8;
+        }
+        let mut n = 0;
+        for ny in y.saturating_sub(1)..(y + 2).min(h) {
+            for nx in x.saturating_sub(1)..(x + 2).min(w) {
+                if (nx, ny) != (x, y) {
+                    out[n] = ny * w + nx;
+                    n += 1;
+                }
+            }
+        }
+        n
     };
+    let mut near = [0usize; 8];
     let mut fill: Vec<(u32, [u8; 4])> = Vec::new();
     while !todo.is_empty() {
         fill.clear();
@@ -27,7 +50,8 @@ pub(crate) fn fill_from_surroundings(image: &mut Image, masked: &mut [bool], mut
         for &i in &todo {
             let mut sum = [0u32; 4];
             let mut n = 0u32;
-            for j in around(i) {
+            let k = around(i, &mut near);
+            for &j in &near[..k] {
                 if !masked[j] {
                     for (s, &c) in sum.iter_mut().zip(&px[j]) {
                         *s += c as u32;
@@ -49,7 +73,8 @@ pub(crate) fn fill_from_surroundings(image: &mut Image, masked: &mut [bool], mut
         }
         todo.clear();
         for &(i, _) in &fill {
-            todo.extend(around(i).filter(|&j| masked[j]).map(|j| j as u32));
+            let k = around(i, &mut near);
+            todo.extend(near[..k].iter().filter(|&&j| masked[j]).map(|&j| j as u32));
         }
         todo.sort_unstable();
         todo.dedup();
