@@ -92,10 +92,10 @@ impl Axis {
 }
 
 /// Fractional bits of [`Across`]'s integer weights. A sum of products of bytes and weights
-/// then fits 32 bits with room for [`round_sums`]' factor of 257, and a weight is off its
-/// float by at most 2⁻¹⁵: a sample moves by a few hundredths of a level at most, and
-/// comes out one level off the float resize's in about one sample of a hundred that are
-/// not flat (where the sum lands beside a level's edge).
+/// then fits 32 bits (and 24, so its float is exact), and a weight is off its float by
+/// under 2⁻¹⁴ ([`Across::new`]): a sample moves by a few hundredths of a level, and comes out
+/// one level off the float resize's in about one sample of a hundred that are not flat
+/// (where the sum lands beside a level's edge).
 const WEIGHT_BITS: u32 = 14;
 
 /// [`WEIGHT_BITS`]' one: every sample's weights sum to it exactly, so flat stays flat.
@@ -133,15 +133,22 @@ impl Across {
                 let start = t.start.min(n - k);
                 let first = weights.len();
                 weights.resize(first + (t.start - start), 0);
+                // Each weight is the step between the rounded running sums before and after
+                // it, the last sum exactly ONE: every weight within a unit of its float, and
+                // together exactly ONE however many round to nothing (rounding each weight
+                // alone left a remainder that grew with the taps).
                 let own = &axis.weights[t.weights.clone()];
-                weights.extend(own.iter().map(|&w| (w * ONE as f32).round() as i16));
-                weights.resize(first + k, 0);
-                // Rounding leaves the sum a little off one: the largest weight takes the rest.
-                let w = &mut weights[first..];
-                let rest = ONE - w.iter().map(|&v| i32::from(v)).sum::<i32>();
-                if let Some(top) = (0..k).max_by_key(|&j| w[j]) {
-                    w[top] = (i32::from(w[top]) + rest) as i16;
+                let (mut sum, mut before) = (0f64, 0i32);
+                for (j, &w) in own.iter().enumerate() {
+                    sum += f64::from(w);
+                    let after = match j + 1 == own.len() {
+                        true => ONE,
+                        false => (sum * f64::from(ONE)).round() as i32,
+                    };
+                    weights.push((after - before) as i16);
+                    before = after;
                 }
+                weights.resize(first + k, 0);
                 start
             })
             .collect();
@@ -773,13 +780,11 @@ mod tests {
                     "{n}->{m} {x}"
                 );
                 assert!(across.starts[x] + across.k <= n);
-                // Each float tap is found at its place in the integers (the largest takes
-                // the others' rounding, at most half a unit each).
+                // Each float tap is found at its place in the integers, within a unit.
                 let t = &axis.taps[x];
                 for (j, &f) in axis.weights[t.weights.clone()].iter().enumerate() {
                     let i = w[t.start + j - across.starts[x]];
-                    let off = (i as f32 - f * ONE as f32).abs();
-                    assert!(off <= 0.5 * across.k as f32 + 1e-3, "{f} {i}");
+                    assert!((i as f32 - f * ONE as f32).abs() <= 1.01, "{f} {i}");
                 }
             }
         }
