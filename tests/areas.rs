@@ -412,7 +412,10 @@ fn the_default_keeps_positions_and_floats_a_colour_whole_or_not_at_all() {
             rect(&mut img, 566, 40, 574, 200, DOT);
             rect(&mut img, 566, 192, 596, 200, DOT);
         }
-        let out = retarget(&img, target, &Options::default()).unwrap().image;
+        // Filling the target: the floats over a linear map (without `fill` this picture,
+        // where nothing gives way, is drawn at one scale and nothing floats).
+        let fill = Options::default().with_fill(true);
+        let out = retarget(&img, target, &fill).unwrap().image;
         let found = blobs(&out);
         assert_eq!(found.len(), dots.len() + with_l as usize, "{found:?}");
         let at: Vec<(f64, f64, f64, f64)> = (dots.iter())
@@ -475,19 +478,39 @@ fn bars(framed: bool) -> Image {
     img
 }
 
-/// Where nothing floats and no margin gives way (bars and frames: no text, no round marks,
-/// no blank strip at the canvas' edge), the default is exactly a plain linear resize: a
-/// chart that is not bent is drawn as a linear resize draws it, with no snapped or redrawn
-/// lines of its own.
+/// Where nothing gives way (bars and frames: no text, no blank strip at the canvas' edge),
+/// the default draws the chart at one scale, the smaller of the two axes', centred on its
+/// ground: exactly the linear resize of the picture to that size, with bands of its ground
+/// beside it. With `fill`, exactly the linear resize to the target: a chart that is not bent
+/// is drawn as a linear resize draws it, with no snapped or redrawn lines of its own.
 #[test]
-fn where_nothing_floats_the_default_is_the_linear_resize() {
+fn where_nothing_gives_way_the_default_draws_one_scale_and_fill_the_linear_resize() {
     let img = bars(true);
-    for target in [Size::new(200, 240).unwrap(), Size::new(400, 144).unwrap()] {
+    let ground = [255, 255, 255, 255];
+    for (target, content, at) in [
+        ((200, 240), (200, 120), (0, 60)),
+        ((400, 144), (240, 144), (80, 0)),
+    ] {
+        let target = Size::new(target.0, target.1).unwrap();
         let out = retarget(&img, target, &Options::default()).unwrap().image;
+        let inner = Size::new(content.0, content.1).unwrap();
+        let small = vizretarget::resize_linear(img.as_ref(), inner);
+        for y in 0..target.height {
+            for x in 0..target.width {
+                let (u, v) = (x.wrapping_sub(at.0), y.wrapping_sub(at.1));
+                let want = match u < inner.width && v < inner.height {
+                    true => small.get(u, v),
+                    false => ground,
+                };
+                assert_eq!(out.get(x, y), want, "{target:?} at ({x}, {y})");
+            }
+        }
+        let fill = Options::default().with_fill(true);
+        let out = retarget(&img, target, &fill).unwrap().image;
         let linear = vizretarget::resize_linear(img.as_ref(), target);
         assert!(
             out == linear,
-            "{target:?}: the default differs from the linear resize"
+            "{target:?}: --fill differs from the linear resize"
         );
     }
 }
@@ -543,8 +566,10 @@ fn blank_margins_give_way_to_the_plot_at_one_scale() {
         widths[0] > lin[0][1] - lin[0][0] + 2,
         "{widths:?} against {lin:?}"
     );
-    // The thin margins of the chart alone: the linear resize.
-    let thin = retarget(&chart, Size::new(200, 240).unwrap(), &Options::default()).unwrap();
+    // The thin margins of the chart alone give nothing: filling the target, the linear
+    // resize.
+    let fill = Options::default().with_fill(true);
+    let thin = retarget(&chart, Size::new(200, 240).unwrap(), &fill).unwrap();
     assert!(thin.image == vizretarget::resize_linear(chart.as_ref(), Size::new(200, 240).unwrap()));
 }
 

@@ -198,6 +198,14 @@ pub struct Cli {
     #[arg(long, value_name = "REGIONS", value_enum, default_value_t = RegionsArg::Affine)]
     pub regions: RegionsArg,
 
+    /// Fill the whole target size even where nothing in the picture can give way (no text
+    /// kept at its size, no blank margin): every shape is then squeezed along one axis, as a
+    /// plain resize squeezes it. By default such a picture is drawn at one scale, the smaller
+    /// of the two, centred on its own ground (bands of its background colour fill the rest):
+    /// readers judging blind preferred that to the squeeze.
+    #[arg(long)]
+    pub fill: bool,
+
     /// Resizing method, for one picture: mesh (vizretarget's adaptive mesh, the default);
     /// linear (plain scaling); crop (scale to cover, keep the most salient window); grid (the
     /// same deformation on a uniform grid, Wang et al. 2008); seam (seam carving with forward
@@ -648,6 +656,10 @@ pub struct WatchArgs {
     /// (the default), auto or free.
     #[arg(long, value_name = "REGIONS", value_enum, default_value_t = RegionsArg::Affine)]
     pub regions: RegionsArg,
+
+    /// Fill the whole target size where nothing gives way (see `vizretarget --help`).
+    #[arg(long)]
+    pub fill: bool,
 
     /// How long a snapshot must stay unchanged before it is read when its writer's close was
     /// not seen (files already there at the start; platforms without close-write events), in

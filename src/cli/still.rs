@@ -35,6 +35,7 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
     let mut options = Options::default()
         .with_alpha(cli.alpha)
         .with_regions(cli.regions.into())
+        .with_fill(cli.fill)
         .with_analysis(cli.debug_dir.is_some());
     options = super::marks::apply(&cli.vector, options, &limits)?;
     if let Some(layer) = super::marks::still_layer(&cli.vector)? {

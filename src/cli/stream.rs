@@ -98,7 +98,8 @@ fn check_request(
         &cli.vector,
         Options::default()
             .with_alpha(cli.alpha)
-            .with_regions(cli.regions.into()),
+            .with_regions(cli.regions.into())
+            .with_fill(cli.fill),
         &limits,
     )?;
     options.reuse = cli.stream.reuse();

@@ -9,6 +9,7 @@
 
 mod canvas;
 mod fill;
+mod fit;
 mod floating;
 mod resize;
 mod ripmap;
@@ -16,6 +17,7 @@ mod sample;
 
 pub use canvas::{AreaMaps, AxisMap, CanvasMap};
 pub(crate) use fill::fill_from_surroundings;
+pub(crate) use fit::Fit;
 pub(crate) use floating::{area_marks, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
 pub use resize::{resize_linear, resize_mapped};

@@ -486,7 +486,7 @@ pub fn resize_linear(src: ImageRef<'_>, target: Size) -> Image {
 }
 
 /// [`resize_linear`] on `threads`.
-fn resize_linear_on(src: ImageRef<'_>, target: Size, threads: Threads) -> Image {
+pub(crate) fn resize_linear_on(src: ImageRef<'_>, target: Size, threads: Threads) -> Image {
     if src.size() == target {
         return src.to_owned();
     }

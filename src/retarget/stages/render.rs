@@ -6,7 +6,9 @@ use super::{ms, Meshed, WithWarp};
 use crate::error::Error;
 use crate::image::Image;
 use crate::mesh::{Mark, Mesh};
-use crate::render::{resize_mapped_on, AreaMaps, CanvasMap, Floating, MaskKind, Renderer, Threads};
+use crate::render::{
+    resize_mapped_on, AreaMaps, CanvasMap, Fit, Floating, MaskKind, Renderer, Threads,
+};
 use crate::retarget::frame::{Analysis, FrameStats, Retargeted, StageTimes};
 use crate::retarget::options::Options;
 use crate::retarget::reuse::Decision;
@@ -34,6 +36,8 @@ pub(crate) struct RenderStage {
     scratch: Vec<bool>,
     /// How many marks and text blocks the last frame drew floating.
     floated: usize,
+    /// Fill the target where nothing gives way ([`Options::fill`]) instead of a [`Fit`].
+    fill: bool,
     /// Threads of a canvas' resize: all cores for a frame alone, one inside the threaded
     /// pipeline ([`RenderStage::in_pipeline`]).
     threads: Threads,
@@ -59,6 +63,7 @@ impl RenderStage {
             painted: None,
             scratch: Vec::new(),
             floated: 0,
+            fill: options.fill,
             threads: Threads::AllCores,
         }
     }
@@ -130,7 +135,17 @@ impl RenderStage {
             self.floated = p.floating.len();
             return p.image.clone();
         }
-        let floating = floating_marks(src, vsm, m, warp);
+        // A canvas taken whole is one linear map; where nothing on it gives way, it is drawn
+        // at one scale ([`Fit`]), where nothing needs to float.
+        let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
+        let canvas = whole_canvas.then(|| CanvasMap::new(mesh.structure(), mesh.size(), target));
+        let fit = (canvas.as_ref())
+            .filter(|_| !self.fill)
+            .and_then(|map| Fit::of(map, mesh.size(), target));
+        let floating = match fit {
+            Some(_) => Floating::default(),
+            None => floating_marks(src, vsm, m, warp),
+        };
         // The warp reads the source with the floating marks painted out.
         let warped = painted_out(
             src,
@@ -143,7 +158,6 @@ impl RenderStage {
         // ([`crate::render::resize_linear`]), with none of the crisp-line work that only a
         // bending warp needs (judged blind, its notches and specks were the defects left once
         // nothing bent).
-        let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
         let unchanged = unchanged.is_some();
         let (mut out, pasted) = match usable {
             Some(p) if unchanged => {
@@ -151,10 +165,14 @@ impl RenderStage {
                 // scaled mark blends its rim over what lies under it: twice is not once).
                 (p.image.clone(), true)
             }
-            _ if whole_canvas => {
-                let map = CanvasMap::new(mesh.structure(), mesh.size(), target);
+            _ if fit.is_some() => {
+                let fit = fit.expect("a fit");
+                (fit.draw(warped.as_ref(), target, self.threads), false)
+            }
+            _ if canvas.is_some() => {
+                let map = canvas.as_ref().expect("a canvas map");
                 (
-                    resize_mapped_on(warped.as_ref(), target, &map, self.threads),
+                    resize_mapped_on(warped.as_ref(), target, map, self.threads),
                     false,
                 )
             }
