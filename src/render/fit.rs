@@ -16,24 +16,37 @@ use std::collections::HashMap;
 /// ground the scale would leave would show.
 const LEAST_ASPECT_CHANGE: f64 = 1.02;
 
+/// Least share of the pixels along the picture's edge that must be of one colour for the
+/// picture to have a ground to stand on: most of the edge. Without one (a gradient, a photo
+/// to the edge) the room left over would take a colour foreign to the picture, and the
+/// canvas is left to the linear resize.
+const LEAST_GROUND_SHARE: f64 = 0.5;
+
 /// A canvas at one scale: its picture resized to `content` and put at `at` on a canvas of
-/// the picture's ground.
+/// its `ground`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub(crate) struct Fit {
     pub content: Size,
     pub at: [u32; 2],
+    pub ground: [u8; 4],
 }
 
 impl Fit {
-    /// The fit of a `source` canvas onto `target` when `map` (the canvas' map) is the linear
-    /// resize's along both axes and the aspect changes visibly; `None` otherwise.
-    pub fn of(map: &CanvasMap, source: Size, target: Size) -> Option<Fit> {
+    /// The fit of canvas `src` onto `target` when `map` (the canvas' map) is the linear
+    /// resize's along both axes, the aspect changes visibly and the picture has a ground;
+    /// `None` otherwise.
+    pub fn of(map: &CanvasMap, src: ImageRef<'_>, target: Size) -> Option<Fit> {
+        let source = src.size();
         if !(map.x.is_linear() && map.y.is_linear()) {
             return None;
         }
         let sx = target.width as f64 / source.width as f64;
         let sy = target.height as f64 / source.height as f64;
         if sx.max(sy) < sx.min(sy) * LEAST_ASPECT_CHANGE {
+            return None;
+        }
+        let (ground, share) = ground(src);
+        if share < LEAST_GROUND_SHARE {
             return None;
         }
         let s = sx.min(sy);
@@ -49,12 +62,13 @@ impl Fit {
                 (target.width - content.width) / 2,
                 (target.height - content.height) / 2,
             ],
+            ground,
         })
     }
 
     /// `src` drawn on a `target` canvas of its ground, at this fit.
     pub fn draw(&self, src: ImageRef<'_>, target: Size, threads: Threads) -> Image {
-        let mut out = Image::filled(target, ground(src));
+        let mut out = Image::filled(target, self.ground);
         let content = resize_linear_on(src, self.content, threads);
         let (w, x0) = (self.content.width as usize, self.at[0] as usize);
         for (y, row) in content.pixels().chunks_exact(w).enumerate() {
@@ -68,15 +82,16 @@ impl Fit {
 /// line is thick (one or two pixels), so that the ground inside it outnumbers it.
 const GROUND_RINGS: usize = 6;
 
-/// The colour most pixels of the picture's outer [`GROUND_RINGS`] rings have: the ground the
-/// room left over takes (a page's white, a dark theme's black, a map's sea), transparency and
-/// all. Rings along the whole edge, not a band as wide as a header bar, which would outweigh
-/// the page around it.
-fn ground(src: ImageRef<'_>) -> [u8; 4] {
+/// The colour most pixels of the picture's outer [`GROUND_RINGS`] rings have, and their share:
+/// the ground the room left over takes (a page's white, a dark theme's black, a map's sea),
+/// transparency and all. Rings along the whole edge, not a band as wide as a header bar,
+/// which would outweigh the page around it.
+fn ground(src: ImageRef<'_>) -> ([u8; 4], f64) {
     let (w, h) = (src.width() as usize, src.height() as usize);
     let px = src.pixels();
     let rings = GROUND_RINGS.min(w.div_ceil(2)).min(h.div_ceil(2));
     let mut count: HashMap<[u8; 4], u32> = HashMap::new();
+    let mut all = 0u32;
     for (y, row) in px.chunks_exact(w).enumerate() {
         // Whole rows near the top and bottom, the ends of the others.
         let (a, b) = match y < rings || y + rings >= h {
@@ -85,12 +100,13 @@ fn ground(src: ImageRef<'_>) -> [u8; 4] {
         };
         for &p in a.iter().chain(b) {
             *count.entry(p).or_default() += 1;
+            all += 1;
         }
     }
     // The commonest, the smallest value among equals: the same colour whatever the order.
     (count.into_iter())
         .max_by_key(|&(c, n)| (n, std::cmp::Reverse(c)))
-        .map_or([255; 4], |(c, _)| c)
+        .map_or(([255; 4], 0.0), |(c, n)| (c, n as f64 / all as f64))
 }
 
 #[cfg(test)]
@@ -119,12 +135,14 @@ mod tests {
                 }
             }
         }
-        let fit = Fit::of(&linear(source, target), source, target).expect("a fit");
+        let fit = Fit::of(&linear(source, target), img.as_ref(), target).expect("a fit");
+        let (content, ground) = (Size::new(100, 50).unwrap(), [200, 200, 200, 255]);
         assert_eq!(
             fit,
             Fit {
-                content: Size::new(100, 50).unwrap(),
-                at: [0, 25]
+                content,
+                at: [0, 25],
+                ground
             }
         );
         let out = fit.draw(img.as_ref(), target, Threads::One);
@@ -141,29 +159,44 @@ mod tests {
         );
     }
 
-    /// A map that bends anything, or an aspect that hardly changes, is not fitted.
+    /// A map that bends anything, an aspect that hardly changes, or a picture without a
+    /// ground along its edge is not fitted.
     #[test]
-    fn only_a_linear_map_of_a_changed_aspect_is_fitted() {
+    fn only_a_linear_map_of_a_changed_aspect_on_a_ground_is_fitted() {
         let source = Size::new(200, 100).unwrap();
+        let white = Image::filled(source, [255; 4]);
+        let src = white.as_ref();
         let same = Size::new(100, 50).unwrap();
-        assert_eq!(Fit::of(&linear(source, same), source, same), None);
+        assert_eq!(Fit::of(&linear(source, same), src, same), None);
         let slight = Size::new(101, 50).unwrap();
-        assert_eq!(Fit::of(&linear(source, slight), source, slight), None);
+        assert_eq!(Fit::of(&linear(source, slight), src, slight), None);
+        let mut ramp = white.clone();
+        for y in 0..100 {
+            for x in 0..200 {
+                ramp.set(x, y, [(x + y) as u8, 100, 200, 255]);
+            }
+        }
         let target = Size::new(100, 100).unwrap();
+        assert_eq!(
+            Fit::of(&linear(source, target), ramp.as_ref(), target),
+            None
+        );
         let bent = CanvasMap {
             x: AxisMap::with_bands(200, 100, &[[10, 40]], &[[0, 10], [40, 70]], &[[0, 10]]),
             y: AxisMap::linear(100, 100),
         };
         assert!(!bent.x.is_linear());
-        assert_eq!(Fit::of(&bent, source, target), None);
+        assert_eq!(Fit::of(&bent, src, target), None);
         // Taller too: the picture at its width's scale, centred down the canvas.
         let tall = Size::new(200, 300).unwrap();
-        let fit = Fit::of(&linear(source, tall), source, tall).unwrap();
+        let fit = Fit::of(&linear(source, tall), src, tall).unwrap();
+        let (content, ground) = (Size::new(200, 100).unwrap(), [255; 4]);
         assert_eq!(
             fit,
             Fit {
-                content: Size::new(200, 100).unwrap(),
-                at: [0, 100]
+                content,
+                at: [0, 100],
+                ground
             }
         );
     }
@@ -180,8 +213,10 @@ mod tests {
             img.set(0, y, [40, 40, 40, 255]);
             img.set(199, y, [40, 40, 40, 255]);
         }
-        assert_eq!(ground(img.as_ref()), [250, 250, 250, 255]);
+        let (colour, share) = ground(img.as_ref());
+        assert_eq!(colour, [250, 250, 250, 255]);
+        assert!((0.5..0.9).contains(&share), "{share}");
         let tiny = Image::filled(Size::new(1, 1).unwrap(), [1, 2, 3, 4]);
-        assert_eq!(ground(tiny.as_ref()), [1, 2, 3, 4]);
+        assert_eq!(ground(tiny.as_ref()), ([1, 2, 3, 4], 1.0));
     }
 }

@@ -141,7 +141,7 @@ impl RenderStage {
         let canvas = whole_canvas.then(|| CanvasMap::new(mesh.structure(), mesh.size(), target));
         let fit = (canvas.as_ref())
             .filter(|_| !self.fill)
-            .and_then(|map| Fit::of(map, mesh.size(), target));
+            .and_then(|map| Fit::of(map, src.as_ref(), target));
         let floating = match fit {
             Some(_) => Floating::default(),
             None => floating_marks(src, vsm, m, warp),
