@@ -515,6 +515,51 @@ fn where_nothing_gives_way_the_default_draws_one_scale_and_fill_the_linear_resiz
     }
 }
 
+/// A frame drawn at one scale says where ([`vizretarget::FrameStats::fitted`]); a frame that
+/// brings vector marks is not drawn so (the warp places them over the whole target), and its
+/// mark lands on the bar top it was given at.
+#[test]
+fn a_fitted_frame_says_where_and_vector_marks_keep_the_whole_target() {
+    use vizretarget::vector::{PointMark, VectorLayer};
+    use vizretarget::{Frame, Retargeter};
+    let img = bars(true);
+    let target = Size::new(200, 240).unwrap();
+    let plain = retarget(&img, target, &Options::default()).unwrap();
+    assert_eq!(plain.stats.fitted, Some([0, 60, 200, 180]));
+    // The tallest bar (third, x 180..216) tops out at y 48; a dot on it.
+    let layer = VectorLayer {
+        points: vec![PointMark {
+            id: None,
+            x: 198.0,
+            y: 48.0,
+            radius: 4.0,
+            fill: [20, 160, 60, 255],
+            stroke: None,
+        }],
+        ..VectorLayer::default()
+    };
+    let mut r = Retargeter::new(target, Options::default()).unwrap();
+    r.send_frame(Frame::new(img.clone(), 0).with_marks(layer))
+        .unwrap();
+    r.flush();
+    let out = r.receive_frame().unwrap();
+    assert_eq!(out.stats.fitted, None);
+    let marks = out.marks.expect("placed marks");
+    let (mx, my) = (marks.points[0].x, marks.points[0].y);
+    let bar = |x: u32, y: u32| {
+        let p = out.image.get(x, y);
+        p[0] > 150 && p[1] < 130 && p[2] < 100
+    };
+    // Beside the dot (radius 4), the bar of output x 90..108.
+    let top = (0..240)
+        .find(|&y| bar(mx as u32 - 7, y))
+        .expect("the bar beside the dot");
+    assert!(
+        (my - top as f64).abs() <= 2.0,
+        "dot at {my}, bar top at {top}"
+    );
+}
+
 /// Bars' columns of `img` along row `y`: the runs of bar-coloured pixels, `[first, last]`.
 fn bar_runs(img: &Image, y: u32) -> Vec<[u32; 2]> {
     let bar = |x: u32| {

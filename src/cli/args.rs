@@ -188,9 +188,10 @@ pub struct Cli {
     pub alpha: f32,
 
     /// Which parts of a chart the warp may bend: affine (the default: the whole picture is
-    /// one data area, resized linearly so nothing read off a position or a length changes,
-    /// with text on a flat ground kept at its size where it has room: judged blind on real
-    /// charts, readers preferred this to the bending modes); auto (data areas found from axes,
+    /// one data area, resized by one map per axis so nothing read off a position or a length
+    /// changes, with text bands and text on a flat ground kept at their size where they have
+    /// room, and at one scale where nothing can give way, see --fill: judged blind on real
+    /// charts, readers preferred this to the bending modes and to a plain resize); auto (data areas found from axes,
     /// frames, even grids and bars on a baseline keep one affine map each and their round
     /// marks one scale, margins, gutters and the space around text absorb the rest); free (no
     /// data areas: the paper's adaptive mesh bends wherever content allows, for node-link
@@ -198,10 +199,12 @@ pub struct Cli {
     #[arg(long, value_name = "REGIONS", value_enum, default_value_t = RegionsArg::Affine)]
     pub regions: RegionsArg,
 
-    /// Fill the whole target size even where nothing in the picture can give way (no text
-    /// kept at its size, no blank margin): every shape is then squeezed along one axis, as a
-    /// plain resize squeezes it. By default such a picture is drawn at one scale, the smaller
-    /// of the two, centred on its own ground (bands of its background colour fill the rest):
+    /// Under --regions affine, fill the whole target size even where nothing in the picture
+    /// can give way (no text band to keep at its size, no blank margin): the picture is then
+    /// squeezed along one axis as a plain resize squeezes it, with its round marks and text
+    /// on a flat ground floated over it where they have room. By default such a picture is
+    /// drawn at one scale, the smaller of the two, centred on its own ground (the colour of
+    /// most of its edge; a picture without one, such as a gradient to the edge, fills):
     /// readers judging blind preferred that to the squeeze.
     #[arg(long)]
     pub fill: bool,

@@ -93,7 +93,7 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
          vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
          folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}; \
          text blocks {} ({} held at their size), snapped to pixels {}{}; \
-         data areas {}, floating marks and text {}",
+         data areas {}, floating marks and text {}{}",
         input.display(),
         from,
         out.image.size(),
@@ -125,5 +125,13 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
         },
         s.data_areas,
         s.floated,
+        match s.fitted {
+            Some([x0, y0, x1, y1]) => format!(
+                "; drawn at one scale, {}x{} at ({x0}, {y0}), on its ground",
+                x1 - x0,
+                y1 - y0
+            ),
+            None => String::new(),
+        },
     );
 }

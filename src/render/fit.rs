@@ -96,9 +96,11 @@ fn ground(src: ImageRef<'_>) -> ([u8; 4], f64) {
         // Whole rows near the top and bottom, the ends of the others.
         let (a, b) = match y < rings || y + rings >= h {
             true => (row, &row[w..]),
-            false => (&row[..rings], &row[w - rings..]),
+            false => (&row[..rings], &row[(w - rings).max(rings)..]),
         };
         for &p in a.iter().chain(b) {
+            // Clear pixels are one ground, whatever colour they hide.
+            let p = if p[3] == 0 { [0; 4] } else { p };
             *count.entry(p).or_default() += 1;
             all += 1;
         }
@@ -218,5 +220,15 @@ mod tests {
         assert!((0.5..0.9).contains(&share), "{share}");
         let tiny = Image::filled(Size::new(1, 1).unwrap(), [1, 2, 3, 4]);
         assert_eq!(ground(tiny.as_ref()), ([1, 2, 3, 4], 1.0));
+        // Clear pixels hiding many colours are one clear ground; a narrow picture's middle
+        // column is counted once.
+        let mut clear = Image::filled(Size::new(9, 30).unwrap(), [0; 4]);
+        for (i, p) in clear.pixels_mut().iter_mut().enumerate() {
+            *p = [i as u8, (i * 7) as u8, 3, 0];
+        }
+        clear.set(4, 15, [9, 9, 9, 255]);
+        let (colour, share) = ground(clear.as_ref());
+        assert_eq!(colour, [0; 4]);
+        assert!(share < 1.0 && share > 0.99, "{share}");
     }
 }

@@ -70,6 +70,11 @@ pub struct FrameStats {
     /// Marks and text blocks drawn floating over the warp (a data area's, and a stream's
     /// marks that the kept mesh does not ring).
     pub floated: usize,
+    /// Where the picture was drawn at one scale because nothing on its canvas gave way (see
+    /// [`crate::Options::fill`]): the output rectangle `[x0, y0, x1, y1)` it fills, its ground
+    /// around it. The analysis' warp still maps the canvas onto the whole target: a source
+    /// point `(x, y)` of a `w × h` frame lies at `x0 + x·(x1 − x0)/w`, `y0 + y·(y1 − y0)/h`.
+    pub fitted: Option<[u32; 4]>,
     /// Position in the stream.
     pub frame_index: u64,
 }

@@ -28,10 +28,12 @@ pub struct Options {
     /// Which regions are data areas, warped by one axis-aligned affine map each (by default
     /// the whole canvas; needs [`Options::structure`]).
     pub regions: Regions,
-    /// Fill the whole target where nothing on a canvas taken whole gives way (a linear
-    /// squeeze), instead of drawing the picture at one scale on its ground
-    /// ([`crate::render`]'s fit; off by default: judged blind, readers preferred the picture
-    /// at one scale).
+    /// Under [`Regions::Affine`], fill the whole target where nothing on the canvas gives way
+    /// (its map is then the linear resize's, with whatever floats over it), instead of
+    /// drawing the picture at one scale, centred on its ground (the colour of most of its
+    /// edge; a picture without one is not drawn so). Off by default: judged blind, readers
+    /// preferred the picture at one scale to the squeezed one. Frames with vector marks
+    /// always fill.
     pub fill: bool,
     /// Vector marks for every frame that brings none of its own ([`crate::Frame::marks`]): bound to
     /// the mesh and redrawn over the warped raster (§5.3, see [`crate::vector`]).

@@ -111,9 +111,12 @@ pub(crate) fn takes_canvas_whole(size: crate::image::Size) -> bool {
 pub enum Regions {
     /// Data areas where axes, frames, grids or bars show them; the free warp elsewhere.
     Auto,
-    /// The whole canvas is one data area: a linear resize but for its text bands (kept at
-    /// their size, see [`Bands`]), text on a flat ground kept at its size where it has room. The default: judged blind on real charts, readers preferred it
-    /// to the modes that bend (a chart that lies is worse than a squashed one).
+    /// The whole canvas is one data area: one map per axis, linear but for its text bands
+    /// (kept at their size, see [`Bands`]) and the blank margins its plot may grow into, text
+    /// on a flat ground kept at its size where it has room; where nothing gives way, the
+    /// picture at one scale on its ground (see [`crate::Options::fill`]). The default: judged
+    /// blind on real charts, readers preferred it to the modes that bend (a chart that lies
+    /// is worse than a squashed one) and to a linear resize.
     #[default]
     Affine,
     /// No data areas: the paper's free warp everywhere.
@@ -233,8 +236,9 @@ impl Structure {
         })
     }
 
-    /// The whole canvas is one data area ([`Regions::Affine`]): it is resampled as a plain
-    /// linear resize, and only what floats over it needs the structure.
+    /// The whole canvas is one data area ([`Regions::Affine`]): it is resampled by one map per
+    /// axis (or at one scale where nothing gives way), and only those maps and what floats
+    /// over it need the structure.
     pub fn whole_canvas(&self) -> bool {
         self.areas.iter().any(|a| a.kind == AreaKind::Canvas)
     }

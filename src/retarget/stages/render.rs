@@ -36,6 +36,8 @@ pub(crate) struct RenderStage {
     scratch: Vec<bool>,
     /// How many marks and text blocks the last frame drew floating.
     floated: usize,
+    /// Where the last frame was drawn at one scale ([`Fit`]), if it was.
+    fitted: Option<[u32; 4]>,
     /// Fill the target where nothing gives way ([`Options::fill`]) instead of a [`Fit`].
     fill: bool,
     /// Threads of a canvas' resize: all cores for a frame alone, one inside the threaded
@@ -63,6 +65,7 @@ impl RenderStage {
             painted: None,
             scratch: Vec::new(),
             floated: 0,
+            fitted: None,
             fill: options.fill,
             threads: Threads::AllCores,
         }
@@ -80,14 +83,7 @@ impl RenderStage {
     /// placed and drawn (§5.3), and the frame's statistics.
     pub fn run(&mut self, m: WithWarp) -> Result<Retargeted, Error> {
         let t = Instant::now();
-        let mut image = self.draw(
-            &m.frame.image,
-            &m.sal.vsm,
-            &m.meshed,
-            &m.solved.warp,
-            m.solved.decision,
-            &m.sal.dirty,
-        );
+        let mut image = self.draw(&m);
         let marks = m
             .frame
             .marks
@@ -101,21 +97,17 @@ impl RenderStage {
             marks,
             times,
             self.floated,
+            self.fitted,
             self.keep_analysis,
         ))
     }
 
     /// The warped raster with the frame's floating marks: only what changed is redrawn when
     /// the previous frame's output can be kept.
-    fn draw(
-        &mut self,
-        src: &Image,
-        vsm: &Vsm,
-        m: &Meshed,
-        warp: &Arc<Warp>,
-        decision: Decision,
-        dirty: &TileMask,
-    ) -> Image {
+    fn draw(&mut self, w: &WithWarp) -> Image {
+        let (src, vsm, m, warp) = (&w.frame.image, &w.sal.vsm, &w.meshed, &w.solved.warp);
+        let (decision, dirty) = (w.solved.decision, &w.sal.dirty);
+        let vector_marks = w.frame.marks.is_some();
         let mesh = &m.mesh;
         let opaque = src.is_opaque();
         let target = warp.target();
@@ -136,12 +128,18 @@ impl RenderStage {
             return p.image.clone();
         }
         // A canvas taken whole is one linear map; where nothing on it gives way, it is drawn
-        // at one scale ([`Fit`]), where nothing needs to float.
+        // at one scale ([`Fit`]): its marks stay round and its text keeps its shape there, so
+        // nothing floats over it. Not under vector marks, which the warp places over the
+        // whole target.
         let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
         let canvas = whole_canvas.then(|| CanvasMap::new(mesh.structure(), mesh.size(), target));
         let fit = (canvas.as_ref())
-            .filter(|_| !self.fill)
+            .filter(|_| !self.fill && !vector_marks)
             .and_then(|map| Fit::of(map, src.as_ref(), target));
+        self.fitted = fit.map(|f| {
+            let [x, y] = f.at;
+            [x, y, x + f.content.width, y + f.content.height]
+        });
         let floating = match fit {
             Some(_) => Floating::default(),
             None => floating_marks(src, vsm, m, warp),
@@ -154,7 +152,7 @@ impl RenderStage {
             &mut self.painted,
             &mut self.scratch,
         );
-        // A canvas taken whole is one linear map: resampled as a plain linear resize is
+        // A canvas taken whole is resampled by one map per axis, as a plain linear resize is
         // ([`crate::render::resize_linear`]), with none of the crisp-line work that only a
         // bending warp needs (judged blind, its notches and specks were the defects left once
         // nothing bent).
@@ -411,6 +409,7 @@ fn finish(
     marks: Option<Arc<VectorLayer>>,
     times: StageTimes,
     floated: usize,
+    fitted: Option<[u32; 4]>,
     keep_analysis: bool,
 ) -> Retargeted {
     let WithWarp {
@@ -436,6 +435,7 @@ fn finish(
         frame_index: frame.frame_index,
         data_areas: mesh.structure().map_or(0, |s| s.areas.len()),
         floated,
+        fitted,
     };
     let analysis = keep_analysis.then_some(Analysis {
         vsm: sal.vsm,
