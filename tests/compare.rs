@@ -135,6 +135,31 @@ fn the_default_measures_as_one_linear_map() {
     assert!(m.distortion.unwrap() > 0.1, "{m:?}");
 }
 
+/// Where nothing gives way the default draws the picture at one scale on its ground: it is
+/// measured as that map (no distortion, salient content kept at the scale's area), not as the
+/// squeeze it no longer draws.
+#[test]
+fn a_picture_drawn_at_one_scale_measures_as_one() {
+    let mut img = Image::filled(size(200, 100), WHITE);
+    for x in 0..200 {
+        img.set(x, 0, [40, 40, 40, 255]);
+        img.set(x, 99, [40, 40, 40, 255]);
+    }
+    for y in 0..100 {
+        img.set(0, y, [40, 40, 40, 255]);
+        img.set(199, y, [40, 40, 40, 255]);
+    }
+    disc(&mut img, 100.0, 50.0, 20.0, RED);
+    let out = retarget_with(Method::Mesh, &img, size(100, 100), &Options::default()).unwrap();
+    let Mapping::Affine { window } = out.mapping else {
+        panic!("measured as one map")
+    };
+    assert_eq!(window, [0.0, -50.0, 200.0, 150.0]);
+    let m = measure(&img, &out);
+    assert!(m.distortion.unwrap() < 1e-12, "{m:?}");
+    assert!(close(m.salient_area_kept.unwrap(), 0.25, 1e-9), "{m:?}");
+}
+
 /// Seam carving that removes only empty columns keeps every salient pixel, undistorted.
 #[test]
 fn seam_carving_through_empty_space_keeps_the_marks() {

@@ -170,6 +170,7 @@ fn mesh_method(image: &Image, target: Size, options: &Options) -> Result<MethodO
     let analysis = out.analysis.ok_or(Error::Internal(
         "the retargeter kept no analysis although asked to".into(),
     ))?;
+    let t = out.image.size();
     Ok(MethodOutput {
         method: Method::Mesh,
         image: out.image,
@@ -182,15 +183,29 @@ fn mesh_method(image: &Image, target: Size, options: &Options) -> Result<MethodO
         },
         // A canvas taken whole is resampled as a plain resize: measured as that map (its
         // mesh is the two triangles of the canvas, too coarse to tell salient ones apart).
+        // Drawn at one scale into `fitted`, the window that fills the output reaches past
+        // the source by the ground around it.
         mapping: if analysis
             .mesh
             .structure()
             .is_some_and(crate::structure::Structure::whole_canvas)
         {
             let s = image.size();
-            Mapping::Affine {
-                window: [0.0, 0.0, s.width as f64, s.height as f64],
-            }
+            let (w, h) = (s.width as f64, s.height as f64);
+            let window = match out.stats.fitted {
+                Some([x0, y0, x1, y1]) => {
+                    let (sx, sy) = ((x1 - x0) as f64 / w, (y1 - y0) as f64 / h);
+                    let (x0, y0) = (x0 as f64 / sx, y0 as f64 / sy);
+                    [
+                        -x0,
+                        -y0,
+                        t.width as f64 / sx - x0,
+                        t.height as f64 / sy - y0,
+                    ]
+                }
+                None => [0.0, 0.0, w, h],
+            };
+            Mapping::Affine { window }
         } else {
             Mapping::Warp {
                 mesh: analysis.mesh,
