@@ -560,6 +560,54 @@ fn a_fitted_frame_says_where_and_vector_marks_keep_the_whole_target() {
     );
 }
 
+/// A frame's vector marks are placed by the linear warp; the picture under them follows the
+/// same map even where its blank margin would otherwise give way to the plot, so a mark
+/// stays on what it marks.
+#[test]
+fn a_frames_vector_marks_stay_on_what_they_mark() {
+    use vizretarget::vector::{PointMark, VectorLayer};
+    use vizretarget::{Frame, Retargeter};
+    let mut img = Image::filled(Size::new(200, 100).unwrap(), [255; 4]);
+    rect(&mut img, 150, 40, 190, 60, [30, 60, 200, 255]);
+    let target = Size::new(100, 100).unwrap();
+    // Alone, the blank margin gives way: the box is not where the linear map puts it.
+    let alone = retarget(&img, target, &Options::default().with_fill(true)).unwrap();
+    let blue = |out: &Image, x: u32| {
+        let p = out.get(x, 50);
+        p[2] > 150 && p[0] < 100
+    };
+    let centre = |out: &Image| {
+        let xs: Vec<u32> = (0..100).filter(|&x| blue(out, x)).collect();
+        (xs[0] + xs[xs.len() - 1] + 1) as f64 / 2.0
+    };
+    assert!(
+        (centre(&alone.image) - 85.0).abs() > 3.0,
+        "the map bends alone"
+    );
+    let layer = VectorLayer {
+        points: vec![PointMark {
+            id: None,
+            x: 170.0,
+            y: 30.0,
+            radius: 3.0,
+            fill: [200, 40, 40, 255],
+            stroke: None,
+        }],
+        ..VectorLayer::default()
+    };
+    let mut r = Retargeter::new(target, Options::default()).unwrap();
+    r.send_frame(Frame::new(img.clone(), 0).with_marks(layer))
+        .unwrap();
+    r.flush();
+    let out = r.receive_frame().unwrap();
+    let mark_x = out.marks.expect("placed marks").points[0].x;
+    assert!(
+        (centre(&out.image) - mark_x).abs() <= 1.0,
+        "box at {}, mark at {mark_x}",
+        centre(&out.image)
+    );
+}
+
 /// Bars' columns of `img` along row `y`: the runs of bar-coloured pixels, `[first, last]`.
 fn bar_runs(img: &Image, y: u32) -> Vec<[u32; 2]> {
     let bar = |x: u32| {

@@ -90,7 +90,9 @@ fn ground(src: ImageRef<'_>) -> ([u8; 4], f64) {
     let (w, h) = (src.width() as usize, src.height() as usize);
     let px = src.pixels();
     let rings = GROUND_RINGS.min(w.div_ceil(2)).min(h.div_ceil(2));
-    let mut count: HashMap<[u8; 4], u32> = HashMap::new();
+    // Per colour: how many, and the first pixel seen of it (clear pixels are one colour,
+    // drawn as the first of them: a uniform clear picture stays uniform).
+    let mut count: HashMap<[u8; 4], (u32, [u8; 4])> = HashMap::new();
     let mut all = 0u32;
     for (y, row) in px.chunks_exact(w).enumerate() {
         // Whole rows near the top and bottom, the ends of the others.
@@ -100,15 +102,15 @@ fn ground(src: ImageRef<'_>) -> ([u8; 4], f64) {
         };
         for &p in a.iter().chain(b) {
             // Clear pixels are one ground, whatever colour they hide.
-            let p = if p[3] == 0 { [0; 4] } else { p };
-            *count.entry(p).or_default() += 1;
+            let key = if p[3] == 0 { [0; 4] } else { p };
+            count.entry(key).or_insert((0, p)).0 += 1;
             all += 1;
         }
     }
     // The commonest, the smallest value among equals: the same colour whatever the order.
     (count.into_iter())
-        .max_by_key(|&(c, n)| (n, std::cmp::Reverse(c)))
-        .map_or(([255; 4], 0.0), |(c, n)| (c, n as f64 / all as f64))
+        .max_by_key(|&(c, (n, _))| (n, std::cmp::Reverse(c)))
+        .map_or(([255; 4], 0.0), |(_, (n, p))| (p, n as f64 / all as f64))
 }
 
 #[cfg(test)]
@@ -228,7 +230,7 @@ mod tests {
         }
         clear.set(4, 15, [9, 9, 9, 255]);
         let (colour, share) = ground(clear.as_ref());
-        assert_eq!(colour, [0; 4]);
+        assert_eq!(colour[3], 0);
         assert!(share < 1.0 && share > 0.99, "{share}");
     }
 }

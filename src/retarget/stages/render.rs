@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::image::Image;
 use crate::mesh::{Mark, Mesh};
 use crate::render::{
-    resize_mapped_on, AreaMaps, CanvasMap, Fit, Floating, MaskKind, Renderer, Threads,
+    resize_mapped_on, AreaMaps, AxisMap, CanvasMap, Fit, Floating, MaskKind, Renderer, Threads,
 };
 use crate::retarget::frame::{Analysis, FrameStats, Retargeted, StageTimes};
 use crate::retarget::options::Options;
@@ -132,7 +132,16 @@ impl RenderStage {
         // nothing floats over it. Not under vector marks, which the warp places over the
         // whole target.
         let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
-        let canvas = whole_canvas.then(|| CanvasMap::new(mesh.structure(), mesh.size(), target));
+        let canvas = whole_canvas.then(|| match vector_marks {
+            // A frame's vector marks are placed by the warp, linear over a canvas taken
+            // whole: the picture under them follows the same map (its text bands and
+            // margins keep no size of their own), or the marks would leave what they mark.
+            true => CanvasMap {
+                x: AxisMap::linear(mesh.size().width, target.width),
+                y: AxisMap::linear(mesh.size().height, target.height),
+            },
+            false => CanvasMap::new(mesh.structure(), mesh.size(), target),
+        });
         let fit = (canvas.as_ref())
             .filter(|_| !self.fill && !vector_marks)
             .and_then(|map| Fit::of(map, src.as_ref(), target));
@@ -142,7 +151,7 @@ impl RenderStage {
         });
         let floating = match fit {
             Some(_) => Floating::default(),
-            None => floating_marks(src, vsm, m, warp),
+            None => floating_marks(src, vsm, m, warp, canvas.as_ref()),
         };
         // The warp reads the source with the floating marks painted out.
         let warped = painted_out(
@@ -282,7 +291,13 @@ fn redraw_changed(
 /// data area (at the area's one scale, the geometric mean of its map's scales, so that a
 /// round mark stays round and sizes that encode data keep their proportions; centred where
 /// the area's map takes their centre).
-fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
+fn floating_marks(
+    src: &Image,
+    vsm: &Vsm,
+    m: &Meshed,
+    warp: &Warp,
+    canvas_map: Option<&CanvasMap>,
+) -> Floating {
     let mesh = &m.mesh;
     // Marks inside data areas (at the area's one scale, where its map takes their centre),
     // then the text blocks inside areas ([`crate::render::area_text_placements`]).
@@ -290,14 +305,14 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
     let (mut maps, mut canvas) = (Vec::new(), None);
     if let Some(s) = mesh.structure().filter(|s| !s.areas.is_empty()) {
         maps = warp.area_maps(mesh);
-        canvas = (s.whole_canvas()).then(|| CanvasMap::new(Some(s), mesh.size(), warp.target()));
+        canvas = canvas_map.filter(|_| s.whole_canvas());
         in_areas = crate::render::area_marks(src, vsm, s)
             .into_iter()
             .map(|(mk, k, c)| (mk, InArea::Mark(k, c)))
             .collect();
         let area_maps = AreaMaps {
             areas: &maps,
-            canvas: canvas.as_ref(),
+            canvas,
         };
         let placements = crate::render::area_text_placements(src, s, area_maps, warp.target());
         for (t, p) in s.text.iter().zip(placements) {
@@ -351,7 +366,7 @@ fn floating_marks(src: &Image, vsm: &Vsm, m: &Meshed, warp: &Warp) -> Floating {
         };
         let area_maps = AreaMaps {
             areas: &maps,
-            canvas: canvas.as_ref(),
+            canvas,
         };
         let [ax, bx, ay, by] = area_maps.at(k, mk.center)?;
         let (scale, rim) = ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX);
