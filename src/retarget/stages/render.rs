@@ -127,7 +127,7 @@ impl RenderStage {
             self.floated = p.floating.len();
             return p.image.clone();
         }
-        // A canvas taken whole is one linear map; where nothing on it gives way, it is drawn
+        // A canvas taken whole is drawn by one map per axis; where nothing on it gives way,
         // at one scale ([`Fit`]): its marks stay round and its text keeps its shape there, so
         // nothing floats over it. Not under vector marks, which the warp places over the
         // whole target.
@@ -166,29 +166,23 @@ impl RenderStage {
         // bending warp needs (judged blind, its notches and specks were the defects left once
         // nothing bent).
         let unchanged = unchanged.is_some();
-        let (mut out, pasted) = match usable {
-            Some(p) if unchanged => {
+        let (mut out, pasted) = match (usable, fit, canvas.as_ref()) {
+            (Some(p), _, _) if unchanged => {
                 // Same pixels, mesh and warp: the same floating marks, already drawn (a
                 // scaled mark blends its rim over what lies under it: twice is not once).
                 (p.image.clone(), true)
             }
-            _ if fit.is_some() => {
-                let fit = fit.expect("a fit");
-                (fit.draw(warped.as_ref(), target, self.threads), false)
-            }
-            _ if canvas.is_some() => {
-                let map = canvas.as_ref().expect("a canvas map");
-                (
-                    resize_mapped_on(warped.as_ref(), target, map, self.threads),
-                    false,
-                )
-            }
-            None => {
+            (_, Some(fit), _) => (fit.draw(warped.as_ref(), target, self.threads), false),
+            (_, None, Some(map)) => (
+                resize_mapped_on(warped.as_ref(), target, map, self.threads),
+                false,
+            ),
+            (None, None, None) => {
                 let mut out = Image::new(target);
                 self.renderer.render(warped.as_ref(), mesh, warp, &mut out);
                 (out, false)
             }
-            Some(p) => {
+            (Some(p), None, None) => {
                 let out =
                     redraw_changed(&mut self.renderer, warped, mesh, warp, p, &floating, dirty);
                 (out, false)
