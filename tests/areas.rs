@@ -515,34 +515,39 @@ fn where_nothing_gives_way_the_default_draws_one_scale_and_fill_the_linear_resiz
     }
 }
 
-/// A frame drawn at one scale says where ([`vizretarget::FrameStats::fitted`]); a frame that
-/// brings vector marks is not drawn so (the warp places them over the whole target), and its
-/// mark lands on the bar top it was given at.
-#[test]
-fn a_fitted_frame_says_where_and_vector_marks_keep_the_whole_target() {
+/// `img` retargeted to `target` by default as one frame that brings one vector dot of
+/// `radius` at `at` (green).
+fn with_a_dot(img: &Image, target: Size, at: DVec2, radius: f64) -> vizretarget::Retargeted {
     use vizretarget::vector::{PointMark, VectorLayer};
-    use vizretarget::{Frame, Retargeter};
-    let img = bars(true);
-    let target = Size::new(200, 240).unwrap();
-    let plain = retarget(&img, target, &Options::default()).unwrap();
-    assert_eq!(plain.stats.fitted, Some([0, 60, 200, 180]));
-    // The tallest bar (third, x 180..216) tops out at y 48; a dot on it.
     let layer = VectorLayer {
         points: vec![PointMark {
             id: None,
-            x: 198.0,
-            y: 48.0,
-            radius: 4.0,
+            x: at.x,
+            y: at.y,
+            radius,
             fill: [20, 160, 60, 255],
             stroke: None,
         }],
         ..VectorLayer::default()
     };
-    let mut r = Retargeter::new(target, Options::default()).unwrap();
-    r.send_frame(Frame::new(img.clone(), 0).with_marks(layer))
-        .unwrap();
+    let mut r = vizretarget::Retargeter::new(target, Options::default()).unwrap();
+    let frame = vizretarget::Frame::new(img.clone(), 0).with_marks(layer);
+    r.send_frame(frame).unwrap();
     r.flush();
-    let out = r.receive_frame().unwrap();
+    r.receive_frame().unwrap()
+}
+
+/// A frame drawn at one scale says where ([`vizretarget::FrameStats::fitted`]); a frame that
+/// brings vector marks is not drawn so (the warp places them over the whole target), and its
+/// mark lands on the bar top it was given at.
+#[test]
+fn a_fitted_frame_says_where_and_vector_marks_keep_the_whole_target() {
+    let img = bars(true);
+    let target = Size::new(200, 240).unwrap();
+    let plain = retarget(&img, target, &Options::default()).unwrap();
+    assert_eq!(plain.stats.fitted, Some([0, 60, 200, 180]));
+    // The tallest bar (third, x 180..216) tops out at y 48; a dot on it.
+    let out = with_a_dot(&img, target, DVec2::new(198.0, 48.0), 4.0);
     assert_eq!(out.stats.fitted, None);
     let marks = out.marks.expect("placed marks");
     let (mx, my) = (marks.points[0].x, marks.points[0].y);
@@ -565,8 +570,6 @@ fn a_fitted_frame_says_where_and_vector_marks_keep_the_whole_target() {
 /// stays on what it marks.
 #[test]
 fn a_frames_vector_marks_stay_on_what_they_mark() {
-    use vizretarget::vector::{PointMark, VectorLayer};
-    use vizretarget::{Frame, Retargeter};
     let mut img = Image::filled(Size::new(200, 100).unwrap(), [255; 4]);
     rect(&mut img, 150, 40, 190, 60, [30, 60, 200, 255]);
     let target = Size::new(100, 100).unwrap();
@@ -584,22 +587,7 @@ fn a_frames_vector_marks_stay_on_what_they_mark() {
         (centre(&alone.image) - 85.0).abs() > 3.0,
         "the map bends alone"
     );
-    let layer = VectorLayer {
-        points: vec![PointMark {
-            id: None,
-            x: 170.0,
-            y: 30.0,
-            radius: 3.0,
-            fill: [200, 40, 40, 255],
-            stroke: None,
-        }],
-        ..VectorLayer::default()
-    };
-    let mut r = Retargeter::new(target, Options::default()).unwrap();
-    r.send_frame(Frame::new(img.clone(), 0).with_marks(layer))
-        .unwrap();
-    r.flush();
-    let out = r.receive_frame().unwrap();
+    let out = with_a_dot(&img, target, DVec2::new(170.0, 30.0), 3.0);
     let mark_x = out.marks.expect("placed marks").points[0].x;
     assert!(
         (centre(&out.image) - mark_x).abs() <= 1.0,

@@ -276,6 +276,14 @@ pub struct CanvasMap {
 }
 
 impl CanvasMap {
+    /// The linear resize's map of a `source` canvas onto `target`.
+    pub fn linear(source: Size, target: Size) -> CanvasMap {
+        CanvasMap {
+            x: AxisMap::linear(source.width, target.width),
+            y: AxisMap::linear(source.height, target.height),
+        }
+    }
+
     /// The map of a `source` canvas onto `target` that keeps `structure`'s text bands.
     ///
     /// Where the margins let the plot grow along both axes, it grows no further along one

@@ -118,13 +118,6 @@ mod tests {
     use super::*;
     use crate::render::AxisMap;
 
-    fn linear(source: Size, target: Size) -> CanvasMap {
-        CanvasMap {
-            x: AxisMap::linear(source.width, target.width),
-            y: AxisMap::linear(source.height, target.height),
-        }
-    }
-
     /// A disc on a grey ground, halved in width: drawn at half size both ways, centred, on
     /// grey; the disc stays round.
     #[test]
@@ -139,7 +132,7 @@ mod tests {
                 }
             }
         }
-        let fit = Fit::of(&linear(source, target), img.as_ref(), target).expect("a fit");
+        let fit = Fit::of(&CanvasMap::linear(source, target), img.as_ref(), target).expect("a fit");
         let (content, ground) = (Size::new(100, 50).unwrap(), [200, 200, 200, 255]);
         assert_eq!(
             fit,
@@ -171,9 +164,12 @@ mod tests {
         let white = Image::filled(source, [255; 4]);
         let src = white.as_ref();
         let same = Size::new(100, 50).unwrap();
-        assert_eq!(Fit::of(&linear(source, same), src, same), None);
+        assert_eq!(Fit::of(&CanvasMap::linear(source, same), src, same), None);
         let slight = Size::new(101, 50).unwrap();
-        assert_eq!(Fit::of(&linear(source, slight), src, slight), None);
+        assert_eq!(
+            Fit::of(&CanvasMap::linear(source, slight), src, slight),
+            None
+        );
         let mut ramp = white.clone();
         for y in 0..100 {
             for x in 0..200 {
@@ -182,7 +178,7 @@ mod tests {
         }
         let target = Size::new(100, 100).unwrap();
         assert_eq!(
-            Fit::of(&linear(source, target), ramp.as_ref(), target),
+            Fit::of(&CanvasMap::linear(source, target), ramp.as_ref(), target),
             None
         );
         let bent = CanvasMap {
@@ -193,7 +189,7 @@ mod tests {
         assert_eq!(Fit::of(&bent, src, target), None);
         // Taller too: the picture at its width's scale, centred down the canvas.
         let tall = Size::new(200, 300).unwrap();
-        let fit = Fit::of(&linear(source, tall), src, tall).unwrap();
+        let fit = Fit::of(&CanvasMap::linear(source, tall), src, tall).unwrap();
         let (content, ground) = (Size::new(200, 100).unwrap(), [255; 4]);
         assert_eq!(
             fit,

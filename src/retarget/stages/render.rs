@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::image::Image;
 use crate::mesh::{Mark, Mesh};
 use crate::render::{
-    resize_mapped_on, AreaMaps, AxisMap, CanvasMap, Fit, Floating, MaskKind, Renderer, Threads,
+    resize_mapped_on, AreaMaps, CanvasMap, Fit, Floating, MaskKind, Renderer, Threads,
 };
 use crate::retarget::frame::{Analysis, FrameStats, Retargeted, StageTimes};
 use crate::retarget::options::Options;
@@ -136,10 +136,7 @@ impl RenderStage {
             // A frame's vector marks are placed by the warp, linear over a canvas taken
             // whole: the picture under them follows the same map (its text bands and
             // margins keep no size of their own), or the marks would leave what they mark.
-            true => CanvasMap {
-                x: AxisMap::linear(mesh.size().width, target.width),
-                y: AxisMap::linear(mesh.size().height, target.height),
-            },
+            true => CanvasMap::linear(mesh.size(), target),
             false => CanvasMap::new(mesh.structure(), mesh.size(), target),
         });
         let fit = (canvas.as_ref())
@@ -299,7 +296,7 @@ fn floating_marks(
     let (mut maps, mut canvas) = (Vec::new(), None);
     if let Some(s) = mesh.structure().filter(|s| !s.areas.is_empty()) {
         maps = warp.area_maps(mesh);
-        canvas = canvas_map.filter(|_| s.whole_canvas());
+        canvas = canvas_map;
         in_areas = crate::render::area_marks(src, vsm, s)
             .into_iter()
             .map(|(mk, k, c)| (mk, InArea::Mark(k, c)))
