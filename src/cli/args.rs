@@ -209,6 +209,14 @@ pub struct Cli {
     #[arg(long)]
     pub fill: bool,
 
+    /// Under --regions affine, lay a chart out again as its author would for the target
+    /// size: its plots (data areas found from axes, frames, grids, bars) take the room the
+    /// parts around them leave, and tick labels, axis titles, legends and titles keep their
+    /// size. Best on line and scatter charts; shapes inside a plot that do not float (a
+    /// waffle's squares, a gauge's arc) are squeezed with it.
+    #[arg(long)]
+    pub layout: bool,
+
     /// Resizing method, for one picture: mesh (vizretarget's adaptive mesh, the default);
     /// linear (plain scaling); crop (scale to cover, keep the most salient window); grid (the
     /// same deformation on a uniform grid, Wang et al. 2008); seam (seam carving with forward
@@ -663,6 +671,11 @@ pub struct WatchArgs {
     /// Fill the whole target size where nothing gives way (see `vizretarget --help`).
     #[arg(long)]
     pub fill: bool,
+
+    /// Lay each chart out again for the target: plots take the room their labels leave
+    /// (see `vizretarget --help`).
+    #[arg(long)]
+    pub layout: bool,
 
     /// How long a snapshot must stay unchanged before it is read when its writer's close was
     /// not seen (files already there at the start; platforms without close-write events), in

@@ -36,6 +36,7 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
         .with_alpha(cli.alpha)
         .with_regions(cli.regions.into())
         .with_fill(cli.fill)
+        .with_layout(cli.layout)
         .with_analysis(cli.debug_dir.is_some());
     options = super::marks::apply(&cli.vector, options, &limits)?;
     if let Some(layer) = super::marks::still_layer(&cli.vector)? {

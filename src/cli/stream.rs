@@ -99,7 +99,8 @@ fn check_request(
         Options::default()
             .with_alpha(cli.alpha)
             .with_regions(cli.regions.into())
-            .with_fill(cli.fill),
+            .with_fill(cli.fill)
+            .with_layout(cli.layout),
         &limits,
     )?;
     options.reuse = cli.stream.reuse();

@@ -87,7 +87,8 @@ fn check_request(args: &WatchArgs) -> Result<Options> {
     let options = Options::default()
         .with_alpha(args.alpha)
         .with_regions(args.regions.into())
-        .with_fill(args.fill);
+        .with_fill(args.fill)
+        .with_layout(args.layout);
     options.validate().map_err(library_error)?;
     if !args.dir.is_dir() {
         bail!("{}: not a folder: watch needs a folder", args.dir.display());

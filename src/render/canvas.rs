@@ -19,6 +19,11 @@ const LEAST_GAP_SHARE: f64 = 0.25;
 /// the larger plot won).
 const LEAST_GROWTH: f64 = 0.1;
 
+/// Least scale of a plot, as a share of the linear resize's, when the parts around it keep
+/// their size ([`AxisMap::around_plots`]): half. Below it the data would be drawn smaller
+/// than the type that labels it gains; from there the type shrinks with the plot.
+const LEAST_PLOT_SHARE: f64 = 0.5;
+
 /// A monotone piecewise-linear map of one axis, source `[0, n]` onto output `[0, m]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AxisMap {
@@ -194,6 +199,100 @@ impl AxisMap {
         knots(false)
     }
 
+    /// `n` source pixels onto `m` as the chart's author would lay them out again: the
+    /// `plots` (the spans its data areas cover) take the room the parts around them leave.
+    /// Everything outside the plots (tick labels, axis titles, legends, the gutters between
+    /// panels) keeps its size, the blank `margins` (clean runs without text: the page's
+    /// margins, the space between a plot and its labels) shrink as a resize shrinks them, and every plot takes one scale, so that plots side by side share it
+    /// and every position and length inside them stays proportional. Where that would leave
+    /// a plot under [`LEAST_PLOT_SHARE`] of the linear resize's scale, the margins shrink to
+    /// their least share, then the parts around the plots shrink together. Linear when the
+    /// axis does not shrink, when no plot is given, or when the parts would shrink below
+    /// the linear resize's scale (the layout would only lose to it).
+    ///
+    /// Each stretch kept at its size starts on a whole output pixel: its pixels are copied,
+    /// not resampled between two.
+    pub fn around_plots(n: u32, m: u32, plots: &[[u32; 2]], margins: &[[u32; 2]]) -> AxisMap {
+        let (nf, mf) = (n as f64, m as f64);
+        let linear = mf / nf;
+        let plot = spanned(plots);
+        if m >= n || plot <= 0.0 {
+            return AxisMap::linear(n, m);
+        }
+        // The spans outside the plots: blank margins, and the parts around the plots.
+        let outside = complement(n, plots);
+        let margins: Vec<[u32; 2]> = (outside.iter())
+            .flat_map(|o| {
+                (margins.iter())
+                    .map(|g| [g[0].max(o[0]), g[1].min(o[1])])
+                    .filter(|g| g[0] < g[1])
+            })
+            .collect();
+        let parts_spans: Vec<[u32; 2]> = (outside.iter())
+            .flat_map(|&o| complement_within(o, &margins))
+            .collect();
+        let (margin, parts) = (spanned(&margins), nf - plot - spanned(&margins));
+        let least = LEAST_PLOT_SHARE * linear;
+        let plot_at = |part: f64, gap: f64| (mf - parts * part - margin * gap) / plot;
+        let mut scales = [1.0, linear, plot_at(1.0, linear)];
+        if scales[2] < least {
+            let gap = LEAST_GAP_SHARE * linear;
+            scales = [1.0, gap, plot_at(1.0, gap)];
+        }
+        if scales[2] < least {
+            let gap = scales[1];
+            let part = match parts > 0.0 {
+                true => (mf - plot * least - margin * gap) / parts,
+                false => linear,
+            };
+            if part <= linear {
+                return AxisMap::linear(n, m);
+            }
+            scales = [part, gap, least];
+        }
+        if scales[2] > 1.0 {
+            // A plot is never magnified: what is left goes to the margins, or the parts.
+            let rest = mf - plot;
+            scales = match margin > 0.0 {
+                true => [1.0, (rest - parts) / margin, 1.0],
+                false => [rest / parts, linear, 1.0],
+            };
+        }
+        let [part, gap, scale] = scales;
+        if (scale - linear).abs() < 1e-9 && (part - linear).abs() < 1e-9 {
+            return AxisMap::linear(n, m);
+        }
+        let mut spans: Vec<([u32; 2], f64, bool)> = (plots.iter().map(|&p| (p, scale, false)))
+            .chain(margins.iter().map(|&g| (g, gap, false)))
+            .chain(parts_spans.iter().map(|&o| (o, part, true)))
+            .collect();
+        spans.sort_by_key(|s| s.0[0]);
+        let mut knots = vec![[0.0, 0.0]];
+        let mut out = 0.0;
+        for &([a, e], k, kept) in &spans {
+            // A part kept at its size starts on a whole pixel (the stretch before gives or
+            // takes the fraction).
+            if kept && (k - 1.0).abs() < 1e-9 && a > 0 {
+                out = f64::round(out);
+                match knots.last_mut() {
+                    Some(last) if last[0] >= a as f64 => *last = [a as f64, out],
+                    _ => knots.push([a as f64, out]),
+                }
+            }
+            out += (e - a) as f64 * k;
+            knots.push([e as f64, out.min(mf)]);
+        }
+        // Rounding may leave the last knot a fraction off the end: the end is `m`.
+        if let Some(last) = knots.last_mut() {
+            *last = [nf, mf];
+        }
+        knots.dedup_by(|b, a| b[0] <= a[0]);
+        if knots.windows(2).any(|k| k[1][1] < k[0][1]) {
+            return AxisMap::linear(n, m);
+        }
+        AxisMap { knots }
+    }
+
     /// Whether the map is one linear segment.
     pub fn is_linear(&self) -> bool {
         self.knots.len() == 2
@@ -255,6 +354,38 @@ fn edge_gaps<'a>(
     gaps.iter().copied().filter(move |g| margins.contains(g))
 }
 
+/// The half-open spans of `[0, n)` that none of `spans` (sorted, not overlapping) covers.
+fn complement(n: u32, spans: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    let mut out = Vec::with_capacity(spans.len() + 1);
+    let mut at = 0;
+    for &[a, b] in spans {
+        if a > at {
+            out.push([at, a]);
+        }
+        at = at.max(b);
+    }
+    if at < n {
+        out.push([at, n]);
+    }
+    out
+}
+
+/// The pieces of `span` that none of `cuts` (sorted, not overlapping) covers.
+fn complement_within([a, b]: [u32; 2], cuts: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    let mut out = Vec::new();
+    let mut at = a;
+    for c in cuts.iter().filter(|c| c[1] > a && c[0] < b) {
+        if c[0] > at {
+            out.push([at, c[0]]);
+        }
+        at = at.max(c[1]);
+    }
+    if at < b {
+        out.push([at, b]);
+    }
+    out
+}
+
 /// The length the half-open `spans` cover together.
 fn spanned(spans: &[[u32; 2]]) -> f64 {
     spans.iter().map(|b| (b[1] - b[0]) as f64).sum()
@@ -290,6 +421,25 @@ impl CanvasMap {
     /// than keeps its shape between the linear resize's and its own: the plot of a picture
     /// halved both ways, with wide side margins, is not drawn wider than it was.
     pub fn new(structure: Option<&Structure>, source: Size, target: Size) -> CanvasMap {
+        CanvasMap::laid_out(structure, source, target, true)
+    }
+
+    /// [`CanvasMap::new`] without the plots' layout ([`AxisMap::around_plots`]): the text
+    /// bands and margins alone give way.
+    pub(crate) fn without_plots(
+        structure: Option<&Structure>,
+        source: Size,
+        target: Size,
+    ) -> CanvasMap {
+        CanvasMap::laid_out(structure, source, target, false)
+    }
+
+    fn laid_out(
+        structure: Option<&Structure>,
+        source: Size,
+        target: Size,
+        with_plots: bool,
+    ) -> CanvasMap {
         let empty = crate::structure::Bands::default();
         let b = structure.map_or(&empty, |s| &s.bands);
         let (n, m) = ([source.width, source.height], [target.width, target.height]);
@@ -323,9 +473,17 @@ impl CanvasMap {
                 false => AxisMap::with_bands_at_most(n[k], m[k], spans[k], other).0,
             }
         };
+        // Where data areas were found, they take the room the parts around them leave.
+        let plots = [(&b.plots_x, &b.gaps_x), (&b.plots_y, &b.gaps_y)];
+        let laid_out = |k: usize, map: AxisMap| match plots[k] {
+            (p, g) if with_plots && !p.is_empty() && m[k] < n[k] => {
+                AxisMap::around_plots(n[k], m[k], p, g)
+            }
+            _ => map,
+        };
         CanvasMap {
-            x: narrow(0, px, py, x),
-            y: narrow(1, py, px, y),
+            x: laid_out(0, narrow(0, px, py, x)),
+            y: laid_out(1, narrow(1, py, px, y)),
         }
     }
 
@@ -371,6 +529,78 @@ impl<'m, const N: usize> From<&'m [Option<[f64; 4]>; N]> for AreaMaps<'m> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// The layout of a chart halved in width: the y axis' labels (0..80) and a legend
+    /// (900..1000) keep their size, the plot (80..900) takes the rest at one scale.
+    #[test]
+    fn parts_around_a_plot_keep_their_size_and_the_plot_takes_the_rest() {
+        let m = AxisMap::around_plots(1000, 500, &[[80, 900]], &[]);
+        assert!((m.slope(40.0) - 1.0).abs() < 1e-9, "labels at their size");
+        assert!((m.slope(950.0) - 1.0).abs() < 1e-9, "legend at its size");
+        let s = m.slope(500.0);
+        assert!((s - (500.0 - 180.0) / 820.0).abs() < 0.01, "{s}");
+        for x in [100.0, 400.0, 850.0] {
+            assert!((m.apply(x) - m.apply(80.0) - s * (x - 80.0)).abs() < 1e-6);
+        }
+        assert_eq!(
+            m.apply(900.0).fract(),
+            0.0,
+            "a kept part starts on a whole pixel"
+        );
+        assert_eq!((m.apply(0.0), m.apply(1000.0)), (0.0, 500.0));
+    }
+
+    /// Two panels side by side share one scale; the gutter between them keeps its size.
+    #[test]
+    fn plots_side_by_side_share_one_scale() {
+        let m = AxisMap::around_plots(1000, 600, &[[50, 480], [520, 950]], &[]);
+        let (a, b) = (m.slope(200.0), m.slope(700.0));
+        assert!((a - b).abs() < 1e-9, "{a} {b}");
+        assert!((m.slope(500.0) - 1.0).abs() < 1e-9);
+    }
+
+    /// Blank margins shrink as a resize shrinks them; parts that would leave the plot under
+    /// half the linear scale shrink with it; nothing to lay out is linear.
+    #[test]
+    fn margins_give_way_and_the_plot_keeps_a_least_share() {
+        let m = AxisMap::around_plots(1000, 500, &[[100, 900]], &[[0, 100]]);
+        assert!((m.slope(50.0) - 0.5).abs() < 1e-9, "{}", m.slope(50.0));
+        assert!((m.slope(950.0) - 1.0).abs() < 1e-9);
+        // Parts of 800 px around a plot of 200: at their size the plot would vanish.
+        let crowded = AxisMap::around_plots(1000, 500, &[[400, 600]], &[]);
+        let plot = crowded.slope(500.0);
+        assert!((plot - LEAST_PLOT_SHARE * 0.5).abs() < 1e-9, "{plot}");
+        let parts = crowded.slope(100.0);
+        assert!(parts > 0.5 && parts < 1.0, "{parts}");
+        assert!(AxisMap::around_plots(1000, 500, &[], &[]).is_linear());
+        assert!(AxisMap::around_plots(500, 1000, &[[0, 400]], &[]).is_linear());
+    }
+
+    proptest! {
+        /// Whatever the plots and margins, the layout is a monotone map of [0, n] onto [0, m].
+        #[test]
+        fn a_layout_is_monotone_and_onto(
+            n in 20u32..3000,
+            share in 0.1f64..0.99,
+            cuts in proptest::collection::vec(0.0f64..1.0, 0..6),
+        ) {
+            let m = ((n as f64 * share) as u32).max(1);
+            let mut at: Vec<u32> = cuts.iter().map(|c| (c * n as f64) as u32).collect();
+            at.sort_unstable();
+            at.dedup();
+            let plots: Vec<[u32; 2]> =
+                at.chunks_exact(2).filter(|p| p[0] < p[1]).map(|p| [p[0], p[1]]).collect();
+            let map = AxisMap::around_plots(n, m, &plots, &[]);
+            prop_assert_eq!(map.apply(0.0), 0.0);
+            prop_assert!((map.apply(n as f64) - m as f64).abs() < 1e-9);
+            let mut last = 0.0;
+            for i in 0..=40 {
+                let y = map.apply(n as f64 * i as f64 / 40.0);
+                prop_assert!(y >= last - 1e-9, "{} < {}", y, last);
+                last = y;
+            }
+        }
+    }
 
     #[test]
     fn labels_take_what_the_gaps_give_and_the_plot_keeps_the_linear_scale() {

@@ -184,7 +184,29 @@ pub fn area_text_placements<'m>(
     maps: impl Into<AreaMaps<'m>>,
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
-    let layout = TextLayout::new(src, st, maps.into(), target);
+    area_text_layout(src, st, maps.into(), target).0
+}
+
+/// Whether the text on a canvas taken whole keeps its size under `maps`: no word of it is
+/// left to the map's squeeze ([`TextLayout::all_or_none_on_canvas`]).
+pub(crate) fn canvas_text_floats(
+    src: &Image,
+    st: &crate::structure::Structure,
+    maps: AreaMaps<'_>,
+    target: Size,
+) -> bool {
+    !area_text_layout(src, st, maps, target).1
+}
+
+/// [`area_text_placements`], and whether the text on a canvas taken whole was left to the
+/// map, all of it.
+fn area_text_layout(
+    src: &Image,
+    st: &crate::structure::Structure,
+    maps: AreaMaps<'_>,
+    target: Size,
+) -> (Vec<Option<TextPlacement>>, bool) {
+    let layout = TextLayout::new(src, st, maps, target);
     let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
     let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
@@ -199,8 +221,8 @@ pub fn area_text_placements<'m>(
         mut scale, shift, ..
     } = room;
     share_scale(text, &area_of, &mut scale);
-    layout.all_or_none_on_canvas(&mut scale);
-    (0..text.len())
+    let refused = layout.all_or_none_on_canvas(&mut scale);
+    let placements = (0..text.len())
         .map(|i| {
             // A block the map already keeps at its size (a text band of a canvas) is drawn
             // where it stands by the resampler: floating it could only move it.
@@ -217,7 +239,8 @@ pub fn area_text_placements<'m>(
                 scale: s,
             })
         })
-        .collect()
+        .collect();
+    (placements, refused)
 }
 
 /// Times the floating blocks step aside and shrink before they are left as they are.
@@ -434,21 +457,24 @@ impl<'a> TextLayout<'a> {
     /// On a canvas taken whole, the text floats all of it or none: a title at its size over
     /// condensed labels reads worse than all of it condensed, and so do groups of blocks
     /// floating on their own beside condensed ones.
-    fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) {
+    /// Whether it was left to the map.
+    fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) -> bool {
         let text = self.text;
         let on_canvas = |t: &TextBlock| {
             (self.area_of(t))
                 .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
         };
-        if (0..text.len()).any(|i| {
+        let refused = (0..text.len()).any(|i| {
             self.words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
-        }) {
+        });
+        if refused {
             for (i, s) in scale.iter_mut().enumerate() {
                 if on_canvas(&text[i]) {
                     *s = None;
                 }
             }
         }
+        refused
     }
 }
 

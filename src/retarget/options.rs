@@ -35,6 +35,13 @@ pub struct Options {
     /// preferred the picture at one scale to the squeezed one. Frames with vector marks
     /// always fill.
     pub fill: bool,
+    /// Under [`Regions::Affine`], lay a chart out again as its author would for the target:
+    /// the data areas found from axes, frames, grids and bars take the room that the parts
+    /// around them (labels, legends, titles, gutters) leave, those parts keep their size,
+    /// and text over the plots floats at its size. Off by default: judged blind
+    /// (2026-12-07) it won on line and scatter charts and lost where a plot holds shapes
+    /// that no longer float (waffles, gauges, an UpSet matrix, labelled heat-map cells).
+    pub layout: bool,
     /// Vector marks for every frame that brings none of its own ([`crate::Frame::marks`]): bound to
     /// the mesh and redrawn over the warped raster (§5.3, see [`crate::vector`]).
     pub marks: Option<Arc<VectorLayer>>,
@@ -54,6 +61,7 @@ impl Default for Options {
             structure: true,
             regions: Regions::default(),
             fill: false,
+            layout: false,
             marks: None,
             vector: VectorOptions::default(),
             enhance: Enhancement::default(),
@@ -71,6 +79,12 @@ impl Options {
     /// Sets whether the whole target is filled where nothing gives way ([`Options::fill`]).
     pub fn with_fill(mut self, fill: bool) -> Options {
         self.fill = fill;
+        self
+    }
+
+    /// Sets whether a chart's plots take the room its parts leave ([`Options::layout`]).
+    pub fn with_layout(mut self, layout: bool) -> Options {
+        self.layout = layout;
         self
     }
 

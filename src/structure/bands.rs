@@ -40,6 +40,12 @@ pub struct Bands {
     /// No data area was found (no axes, frame, grid or bars): the picture is read by its
     /// shapes (a map, a node-link graph), which its plot keeps where the margins make room.
     pub free: bool,
+    /// The source columns (`plots_x`) and rows (`plots_y`) the data areas span, merged: the
+    /// plots, which take the room the parts around them (labels, legends, titles, gutters)
+    /// leave, as a chart's author re-rendering it for a smaller screen lets them
+    /// ([`crate::render::AxisMap::around_plots`]).
+    pub plots_x: Vec<[u32; 2]>,
+    pub plots_y: Vec<[u32; 2]>,
 }
 
 impl Bands {
@@ -56,8 +62,42 @@ impl Bands {
             margins_x: common(&self.margins_x, &before.margins_x),
             margins_y: common(&self.margins_y, &before.margins_y),
             free: self.free && before.free,
+            // The layout holds while the scene stands: the first frame's plots stay.
+            plots_x: kept_plots(&self.plots_x, &before.plots_x),
+            plots_y: kept_plots(&self.plots_y, &before.plots_y),
         }
     }
+}
+
+/// The plots a stream keeps: those it had, while it had any (a plot that moves by a few
+/// pixels from frame to frame would move every label with it).
+fn kept_plots(now: &[[u32; 2]], before: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    match before.is_empty() {
+        true => now.to_vec(),
+        false => before.to_vec(),
+    }
+}
+
+/// The half-open source spans that `areas` cover along x (`columns`) or y, merged.
+fn spans_of(areas: &[DataArea], n: u32, columns: bool) -> Vec<[u32; 2]> {
+    let mut spans: Vec<[u32; 2]> = areas
+        .iter()
+        .map(|a| match columns {
+            true => [a.x0, a.x1],
+            false => [a.y0, a.y1],
+        })
+        .map(|[a, b]| [a.floor().max(0.0) as u32, (b.ceil() as u32).min(n)])
+        .filter(|[a, b]| a < b)
+        .collect();
+    spans.sort_unstable();
+    let mut merged: Vec<[u32; 2]> = Vec::with_capacity(spans.len());
+    for s in spans {
+        match merged.last_mut() {
+            Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
+            _ => merged.push(s),
+        }
+    }
+    merged
 }
 
 /// The half-open ranges both `a` and `b` cover (each sorted, not overlapping).
@@ -108,6 +148,8 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         .copied()
         .collect();
     bands.free = areas.is_empty();
+    bands.plots_x = spans_of(areas, w, true);
+    bands.plots_y = spans_of(areas, h, false);
     bands
 }
 
@@ -529,6 +571,7 @@ mod tests {
             margins_x: vec![[0, 10]],
             margins_y: Vec::new(),
             free: true,
+            ..Bands::default()
         };
         let transient = Bands {
             x: vec![[10, 40]],
@@ -538,6 +581,7 @@ mod tests {
             margins_x: Vec::new(),
             margins_y: Vec::new(),
             free: false,
+            ..Bands::default()
         };
         let kept = transient.kept(&first);
         assert!(kept.margins_x.is_empty(), "a margin lost is lost");

@@ -40,6 +40,8 @@ pub(crate) struct RenderStage {
     fitted: Option<[u32; 4]>,
     /// Fill the target where nothing gives way ([`Options::fill`]) instead of a [`Fit`].
     fill: bool,
+    /// Lay the plots out around their parts ([`Options::layout`]).
+    layout: bool,
     /// Threads of a canvas' resize: all cores for a frame alone, one inside the threaded
     /// pipeline ([`RenderStage::in_pipeline`]).
     threads: Threads,
@@ -67,6 +69,7 @@ impl RenderStage {
             floated: 0,
             fitted: None,
             fill: options.fill,
+            layout: options.layout,
             threads: Threads::AllCores,
         }
     }
@@ -137,7 +140,8 @@ impl RenderStage {
             // whole: the picture under them follows the same map (its text bands and
             // margins keep no size of their own), or the marks would leave what they mark.
             true => CanvasMap::linear(mesh.size(), target),
-            false => CanvasMap::new(mesh.structure(), mesh.size(), target),
+            false if self.layout => laid_out(src, mesh, warp, target),
+            false => CanvasMap::without_plots(mesh.structure(), mesh.size(), target),
         });
         let fit = (canvas.as_ref())
             .filter(|_| !self.fill && !vector_marks)
@@ -148,7 +152,7 @@ impl RenderStage {
         });
         let floating = match fit {
             Some(_) => Floating::default(),
-            None => floating_marks(src, vsm, m, warp, canvas.as_ref()),
+            None => floating_marks(src, vsm, m, warp, canvas.as_ref(), self.layout),
         };
         // The warp reads the source with the floating marks painted out.
         let warped = painted_out(
@@ -207,6 +211,31 @@ impl RenderStage {
             marks: m.floating.clone(),
         });
         out
+    }
+}
+
+/// The map of a canvas taken whole: its plots take the room the parts around them leave
+/// ([`crate::render::AxisMap::around_plots`]) where its text keeps its size there; where the
+/// text would be left to the plots' squeeze (a word on a busy ground cannot float, and the
+/// canvas' text floats all of it or none), the text bands and margins alone give way.
+fn laid_out(src: &Image, mesh: &Mesh, warp: &Warp, target: crate::image::Size) -> CanvasMap {
+    let structure = mesh.structure();
+    let map = CanvasMap::new(structure, mesh.size(), target);
+    let Some(st) = structure.filter(|s| !s.text.is_empty()) else {
+        return map;
+    };
+    let fallback = CanvasMap::without_plots(structure, mesh.size(), target);
+    if map == fallback {
+        return map;
+    }
+    let areas = warp.area_maps(mesh);
+    let maps = AreaMaps {
+        areas: &areas,
+        canvas: Some(&map),
+    };
+    match crate::render::canvas_text_floats(src, st, maps, target) {
+        true => map,
+        false => fallback,
     }
 }
 
@@ -288,6 +317,7 @@ fn floating_marks(
     m: &Meshed,
     warp: &Warp,
     canvas_map: Option<&CanvasMap>,
+    author_size: bool,
 ) -> Floating {
     let mesh = &m.mesh;
     // Marks inside data areas (at the area's one scale, where its map takes their centre),
@@ -343,6 +373,13 @@ fn floating_marks(
     let mut marks = loose;
     marks.extend(in_areas.iter().map(|(mk, _)| *mk));
     let locator = (n_loose > 0).then(|| warp.locator(mesh));
+    let area_maps = AreaMaps {
+        areas: &maps,
+        canvas,
+    };
+    // Under the layout ([`Options::layout`]) the marks keep the author's size where room
+    // allows; otherwise each takes its map's geometric mean scale (its share of the area).
+    let mark_scale = author_size.then(|| marks_scale(&in_areas, area_maps));
     Floating::new(src, vsm, &marks, warp.target(), |i, mk| {
         if i < n_loose {
             return locator
@@ -355,12 +392,9 @@ fn floating_marks(
             // A text block's box and a pixel around it: its glyphs with their edges.
             InArea::Text(p) => return Some((p.centre, p.scale, 1, MaskKind::Whole)),
         };
-        let area_maps = AreaMaps {
-            areas: &maps,
-            canvas,
-        };
         let [ax, bx, ay, by] = area_maps.at(k, mk.center)?;
-        let (scale, rim) = ((ax * ay).max(0.0).sqrt(), crate::render::RIM_PX);
+        let scale = mark_scale.unwrap_or((ax * ay).max(0.0).sqrt());
+        let rim = crate::render::RIM_PX;
         Some((
             DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by),
             scale,
@@ -368,6 +402,45 @@ fn floating_marks(
             MaskKind::Colour(colour),
         ))
     })
+}
+
+/// Most marks whose pairs [`marks_scale`] compares; above it they take the largest of
+/// their maps' geometric-mean scales (a dense scatter leaves no room to grow anyway).
+const MOST_MARKS_COMPARED: usize = 2000;
+
+/// The one scale of a frame's area marks: the author's size (1: a chart drawn again for
+/// another screen keeps its markers' point size) where room allows, that is, unless two marks
+/// that stood apart would touch; then the largest scale that keeps every such pair apart,
+/// but never under the maps' geometric mean (the marks' share of their plot's area, which
+/// the picture had). One scale for all keeps a bubble's ratio to the others.
+fn marks_scale(in_areas: &[(Mark, InArea)], maps: AreaMaps<'_>) -> f64 {
+    let placed: Vec<(DVec2, DVec2, f64, f64)> = in_areas
+        .iter()
+        .filter_map(|(mk, what)| {
+            let InArea::Mark(k, _) = *what else {
+                return None;
+            };
+            let [ax, bx, ay, by] = maps.at(k, mk.center)?;
+            let [x0, y0, x1, y1] = mk.bbox;
+            let radius = 0.5 * f64::from((x1 - x0).max(y1 - y0));
+            let out = DVec2::new(ax * mk.center.x + bx, ay * mk.center.y + by);
+            Some((mk.center, out, radius, (ax * ay).max(0.0).sqrt()))
+        })
+        .collect();
+    let floor = placed.iter().map(|p| p.3).fold(0.0, f64::max).min(1.0);
+    if placed.len() > MOST_MARKS_COMPARED {
+        return floor;
+    }
+    let mut scale: f64 = 1.0;
+    for (i, a) in placed.iter().enumerate() {
+        for b in &placed[i + 1..] {
+            let reach = a.2 + b.2;
+            if reach > 0.0 && a.0.distance(b.0) > reach {
+                scale = scale.min(a.1.distance(b.1) / reach);
+            }
+        }
+    }
+    scale.clamp(floor, 1.0)
 }
 
 /// What floats in a data area: a mark (of area `k`, of one colour), or a text block, placed.
