@@ -203,12 +203,13 @@ impl AxisMap {
     /// `plots` (the spans its data areas cover) take the room the parts around them leave.
     /// Everything outside the plots (tick labels, axis titles, legends, the gutters between
     /// panels) keeps its size, the blank `margins` (clean runs without text: the page's
-    /// margins, the space between a plot and its labels) shrink as a resize shrinks them, and every plot takes one scale, so that plots side by side share it
-    /// and every position and length inside them stays proportional. Where that would leave
-    /// a plot under [`LEAST_PLOT_SHARE`] of the linear resize's scale, the margins shrink to
-    /// their least share, then the parts around the plots shrink together. Linear when the
-    /// axis does not shrink, when no plot is given, or when the parts would shrink below
-    /// the linear resize's scale (the layout would only lose to it).
+    /// margins, the space between a plot and its labels) give way first, down to
+    /// [`LEAST_GAP_SHARE`] of the linear resize's scale, and every plot takes one scale, so
+    /// that plots side by side share it and every position and length inside them stays
+    /// proportional. Where that would leave a plot under [`LEAST_PLOT_SHARE`] of the linear
+    /// resize's scale, the parts around the plots shrink together. Linear when the axis does
+    /// not shrink, when no plot is given, or when the parts would shrink below the linear
+    /// resize's scale (the layout would only lose to it).
     ///
     /// Each stretch kept at its size starts on a whole output pixel: its pixels are copied,
     /// not resampled between two.
@@ -234,11 +235,10 @@ impl AxisMap {
         let (margin, parts) = (spanned(&margins), nf - plot - spanned(&margins));
         let least = LEAST_PLOT_SHARE * linear;
         let plot_at = |part: f64, gap: f64| (mf - parts * part - margin * gap) / plot;
-        let mut scales = [1.0, linear, plot_at(1.0, linear)];
-        if scales[2] < least {
-            let gap = LEAST_GAP_SHARE * linear;
-            scales = [1.0, gap, plot_at(1.0, gap)];
-        }
+        // Blank space gives way first, down to its least share, as a chart's author lets
+        // the plot take the room its paddings leave.
+        let gap = LEAST_GAP_SHARE * linear;
+        let mut scales = [1.0, gap, plot_at(1.0, gap)];
         if scales[2] < least {
             let gap = scales[1];
             let part = match parts > 0.0 {
@@ -474,7 +474,7 @@ impl CanvasMap {
             }
         };
         // Where data areas were found, they take the room the parts around them leave.
-        let plots = [(&b.plots_x, &b.gaps_x), (&b.plots_y, &b.gaps_y)];
+        let plots = [(&b.plots_x, &b.blank_x), (&b.plots_y, &b.blank_y)];
         let laid_out = |k: usize, map: AxisMap| match plots[k] {
             (p, g) if with_plots && !p.is_empty() && m[k] < n[k] => {
                 AxisMap::around_plots(n[k], m[k], p, g)
@@ -559,12 +559,13 @@ mod tests {
         assert!((m.slope(500.0) - 1.0).abs() < 1e-9);
     }
 
-    /// Blank margins shrink as a resize shrinks them; parts that would leave the plot under
-    /// half the linear scale shrink with it; nothing to lay out is linear.
+    /// Blank margins give way first, to their least share; parts that would leave the plot
+    /// under half the linear scale shrink with it; nothing to lay out is linear.
     #[test]
     fn margins_give_way_and_the_plot_keeps_a_least_share() {
         let m = AxisMap::around_plots(1000, 500, &[[100, 900]], &[[0, 100]]);
-        assert!((m.slope(50.0) - 0.5).abs() < 1e-9, "{}", m.slope(50.0));
+        let margin = m.slope(50.0);
+        assert!((margin - LEAST_GAP_SHARE * 0.5).abs() < 1e-9, "{margin}");
         assert!((m.slope(950.0) - 1.0).abs() < 1e-9);
         // Parts of 800 px around a plot of 200: at their size the plot would vanish.
         let crowded = AxisMap::around_plots(1000, 500, &[[400, 600]], &[]);

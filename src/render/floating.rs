@@ -116,6 +116,8 @@ pub(crate) enum MaskKind {
     /// The whole box (a text block: its glyphs' antialiased edges too, or they would stay
     /// behind as a ghost outline).
     Whole,
+    /// The whole box, painted out and never drawn: a tick label thinned out of its axis.
+    Dropped,
 }
 
 /// Importance from which a pixel belongs to a data area's mark (as [`crate::mesh`]'s marks)
@@ -167,6 +169,9 @@ const NUDGE_LINES: f64 = 1.0;
 pub struct TextPlacement {
     pub centre: DVec2,
     pub scale: f64,
+    /// Thinned out: a tick label dropped where its row would collide, as an axis' locator
+    /// drops every other one ([`thin`]). Painted out of the picture and not drawn.
+    pub dropped: bool,
 }
 
 /// The placement of each text block that lies mostly inside a data area, given the areas'
@@ -184,7 +189,7 @@ pub fn area_text_placements<'m>(
     maps: impl Into<AreaMaps<'m>>,
     target: Size,
 ) -> Vec<Option<TextPlacement>> {
-    area_text_layout(src, st, maps.into(), target).0
+    area_text_layout(src, st, maps.into(), target, false).0
 }
 
 /// Whether the text on a canvas taken whole keeps its size under `maps`: no word of it is
@@ -195,18 +200,21 @@ pub(crate) fn canvas_text_floats(
     maps: AreaMaps<'_>,
     target: Size,
 ) -> bool {
-    !area_text_layout(src, st, maps, target).1
+    !area_text_layout(src, st, maps, target, true).1
 }
 
-/// [`area_text_placements`], and whether the text on a canvas taken whole was left to the
-/// map, all of it.
-fn area_text_layout(
+/// [`area_text_placements`], with rows of tick labels thinned where they would collide
+/// (`thinning`, under the layout), and whether the text on a canvas taken whole was left to
+/// the map, all of it.
+pub(crate) fn area_text_layout(
     src: &Image,
     st: &crate::structure::Structure,
     maps: AreaMaps<'_>,
     target: Size,
+    thinning: bool,
 ) -> (Vec<Option<TextPlacement>>, bool) {
-    let layout = TextLayout::new(src, st, maps, target);
+    let mut layout = TextLayout::new(src, st, maps, target);
+    layout.thinning = thinning;
     let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
     let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
@@ -215,10 +223,18 @@ fn area_text_layout(
         scale,
         shift: vec![DVec2::ZERO; text.len()],
         covered: vec![None; text.len()],
+        dropped: vec![false; text.len()],
     };
-    layout.make_room(&movers(text, &group), &mut room);
+    let movers = movers(text, &group);
+    if layout.thinning {
+        layout.thin(&movers, &mut room);
+    }
+    layout.make_room(&movers, &mut room);
     let Room {
-        mut scale, shift, ..
+        mut scale,
+        shift,
+        dropped,
+        ..
     } = room;
     share_scale(text, &area_of, &mut scale);
     let refused = layout.all_or_none_on_canvas(&mut scale);
@@ -237,11 +253,18 @@ fn area_text_layout(
             Some(TextPlacement {
                 centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
                 scale: s,
+                dropped: dropped[i],
             })
         })
         .collect();
     (placements, refused)
 }
+
+/// Least labels in a row (column) that make an axis' ticks, which may be thinned.
+const LEAST_TICKS: usize = 3;
+/// Most deviation of tick labels' spacing from its mean, as a share of it: ticks are evenly
+/// spaced (to a pixel's rounding and a label's width), a legend's entries are not.
+const TICKS_EVEN: f64 = 0.15;
 
 /// Times the floating blocks step aside and shrink before they are left as they are.
 const MAKE_ROOM_ROUNDS: usize = 12;
@@ -265,6 +288,8 @@ struct TextLayout<'a> {
     anchors: Vec<f64>,
     /// The output canvas, which every block is kept inside.
     size: (f64, f64),
+    /// Thin crowded rows of tick labels ([`TextLayout::thin`]).
+    thinning: bool,
 }
 
 /// Where the floating blocks stand while they make room for one another.
@@ -276,6 +301,8 @@ struct Room {
     /// Whether each block at its scale and place covers ink, once looked at: it depends on
     /// its own box alone, so it is looked at again only once the block has shrunk or moved.
     covered: Vec<Option<bool>>,
+    /// Blocks thinned out of their row or column ([`thin`]).
+    dropped: Vec<bool>,
 }
 
 /// A group of blocks that steps aside as one, and the unit steps it may take.
@@ -308,6 +335,7 @@ impl<'a> TextLayout<'a> {
             words,
             anchors,
             size: (target.width as f64, target.height as f64),
+            thinning: false,
         }
     }
 
@@ -372,6 +400,71 @@ impl<'a> TextLayout<'a> {
         clash(i, bi, boxes) || *covered.get_or_insert_with(|| self.covers(i, bi, floating))
     }
 
+    /// Rows (columns) of at least [`LEAST_TICKS`] evenly spaced labels of one size, an axis'
+    /// tick labels, whose neighbours would collide at their floating scale drop every other
+    /// label, the first and the last kept, and again while they still collide, as a chart's
+    /// axis locator does for a smaller axis: type keeps its size, and what is left stays
+    /// under its tick. A legend's entries, set unevenly, are never thinned.
+    fn thin(&self, movers: &[Mover], room: &mut Room) {
+        for mover in movers.iter().filter(|m| m.members.len() >= LEAST_TICKS) {
+            let row = mover.moves.iter().all(|d| d.x == 0.0);
+            let centre = |i: usize| {
+                let t = &self.text[i];
+                match row {
+                    true => (t.x0 + t.x1) as f64 / 2.0,
+                    false => (t.y0 + t.y1) as f64 / 2.0,
+                }
+            };
+            let mut kept: Vec<usize> = mover.members.clone();
+            kept.sort_by(|&a, &b| centre(a).total_cmp(&centre(b)));
+            let steps: Vec<f64> = kept
+                .windows(2)
+                .map(|p| centre(p[1]) - centre(p[0]))
+                .collect();
+            let mean = steps.iter().sum::<f64>() / steps.len() as f64;
+            if mean <= 0.0 || steps.iter().any(|s| (s - mean).abs() > TICKS_EVEN * mean) {
+                continue;
+            }
+            let boxes = |kept: &[usize]| -> Vec<Option<[f64; 4]>> {
+                kept.iter()
+                    .map(|&i| {
+                        (room.scale[i].filter(|&s| s > CANNOT_FLOAT))
+                            .and_then(|s| self.placed(i, s, room.shift[i]))
+                    })
+                    .collect()
+            };
+            while kept.len() >= LEAST_TICKS {
+                let b = boxes(&kept);
+                let collide = b.windows(2).any(|p| match (p[0], p[1]) {
+                    (Some(a), Some(c)) => overlap(a, c),
+                    _ => false,
+                });
+                if !collide {
+                    break;
+                }
+                let last = kept.len() - 1;
+                let next: Vec<usize> = (kept.iter().enumerate())
+                    .filter(|&(k, _)| k % 2 == 0 || k == last)
+                    .map(|(_, &i)| i)
+                    .collect();
+                // An even count keeps its last label and the one before it: drop that one.
+                let next = match next.len() >= 2 && kept.len() % 2 == 0 {
+                    true => {
+                        let mut n = next;
+                        let before_last = n.len() - 2;
+                        n.remove(before_last);
+                        n
+                    }
+                    false => next,
+                };
+                for &i in &kept {
+                    room.dropped[i] = !next.contains(&i);
+                }
+                kept = next;
+            }
+        }
+    }
+
     /// Blocks in the way step aside, before any shrinks, to the nearest place that is clear:
     /// blocks read alone first (a title, an axis title), then aligned rows across their line
     /// and columns along theirs, each as one; those still in the way shrink, and again, for
@@ -385,8 +478,7 @@ impl<'a> TextLayout<'a> {
                 .collect();
             let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
                 .map(|i| {
-                    room.scale[i]
-                        .filter(|&s| s > CANNOT_FLOAT)
+                    (room.scale[i].filter(|&s| s > CANNOT_FLOAT && !room.dropped[i]))
                         .and_then(|s| self.placed(i, s, room.shift[i]))
                 })
                 .collect();
@@ -1322,6 +1414,8 @@ struct Paste {
     scaled: Option<Scaled>,
     /// A solid round mark, drawn as the disc it is rather than resampled (see [`Disc`]).
     disc: Option<Disc>,
+    /// Painted out and never drawn ([`MaskKind::Dropped`]).
+    dropped: bool,
 }
 
 /// A solid round mark of one colour, as measured in the source: drawn scaled as a disc of
@@ -1556,11 +1650,12 @@ impl Floating {
             out.width() as i64,
             out.height() as i64,
         );
-        for p in self.pastes.iter().filter(|p| p.scaled.is_some()) {
+        let drawn = self.pastes.iter().filter(|p| !p.dropped);
+        for p in drawn.clone().filter(|p| p.scaled.is_some()) {
             p.paste_scaled(src, out);
         }
         let (sp, op) = (src.pixels(), out.pixels_mut());
-        for p in self.pastes.iter().filter(|p| p.scaled.is_none()) {
+        for p in drawn.filter(|p| p.scaled.is_none()) {
             for (y, x) in p.pixels() {
                 let (tx, ty) = (x as i64 + p.offset.0, y as i64 + p.offset.1);
                 if (0..ow).contains(&tx) && (0..oh).contains(&ty) {
@@ -1638,6 +1733,7 @@ impl Paste {
             offset,
             scaled,
             disc,
+            dropped: matches!(kind, MaskKind::Dropped),
         })
     }
 
@@ -1744,7 +1840,7 @@ fn core_mask(src: &Image, vsm: &Vsm, rect: [u32; 4], kind: MaskKind) -> Vec<bool
                     salient && same_colour([p[0], p[1], p[2]], c)
                 }
                 MaskKind::Salient => salient,
-                MaskKind::Whole => true,
+                MaskKind::Whole | MaskKind::Dropped => true,
             }
         })
         .collect()

@@ -46,6 +46,10 @@ pub struct Bands {
     /// ([`crate::render::AxisMap::around_plots`]).
     pub plots_x: Vec<[u32; 2]>,
     pub plots_y: Vec<[u32; 2]>,
+    /// Every run of clean columns (rows) without text outside the data areas, wherever it
+    /// lies: the blank space a layout shrinks before anything drawn.
+    pub blank_x: Vec<[u32; 2]>,
+    pub blank_y: Vec<[u32; 2]>,
 }
 
 impl Bands {
@@ -65,6 +69,8 @@ impl Bands {
             // The layout holds while the scene stands: the first frame's plots stay.
             plots_x: kept_plots(&self.plots_x, &before.plots_x),
             plots_y: kept_plots(&self.plots_y, &before.plots_y),
+            blank_x: common(&self.blank_x, &before.blank_x),
+            blank_y: common(&self.blank_y, &before.blank_y),
         }
     }
 }
@@ -148,9 +154,67 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         .copied()
         .collect();
     bands.free = areas.is_empty();
-    bands.plots_x = spans_of(areas, w, true);
-    bands.plots_y = spans_of(areas, h, false);
+    bands.plots_x = around_text(spans_of(areas, w, true), text, |t| [t.x0, t.x1 + 1]);
+    bands.plots_y = around_text(spans_of(areas, h, false), text, |t| [t.y0, t.y1 + 1]);
+    if text.is_empty() {
+        // Without text every clean run is blank.
+        bands.blank_x = runs_where(w, |x| !step_across(image, x, true) && !inside_x(areas, x));
+        bands.blank_y = runs_where(h, |y| !step_across(image, y, false) && !inside_y(areas, y));
+    }
     bands
+}
+
+/// `plots` grown over every text block that straddles one of their ends (an axis' last tick
+/// label, centred on the plot's edge): a block across two scales would be torn.
+fn around_text(
+    mut plots: Vec<[u32; 2]>,
+    text: &[TextBlock],
+    extent: impl Fn(&TextBlock) -> [u32; 2],
+) -> Vec<[u32; 2]> {
+    loop {
+        let mut grown = false;
+        for p in plots.iter_mut() {
+            for t in text {
+                let [a, b] = extent(t);
+                if a < p[0] && b > p[0] {
+                    (p[0], grown) = (a, true);
+                }
+                if a < p[1] && b > p[1] {
+                    (p[1], grown) = (b, true);
+                }
+            }
+        }
+        plots.sort_unstable();
+        let mut merged: Vec<[u32; 2]> = Vec::with_capacity(plots.len());
+        for s in plots {
+            match merged.last_mut() {
+                Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
+                _ => merged.push(s),
+            }
+        }
+        plots = merged;
+        if !grown {
+            return plots;
+        }
+    }
+}
+
+/// The half-open runs of positions below `n` where `empty` holds.
+fn runs_where(n: u32, empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < n {
+        if !empty(i) {
+            i += 1;
+            continue;
+        }
+        let a = i;
+        while i < n && empty(i) {
+            i += 1;
+        }
+        out.push([a, i]);
+    }
+    out
 }
 
 /// The picture's ground: the colour most of its border pixels have.
@@ -266,6 +330,8 @@ fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
     Bands {
         gaps_x: gaps(w, &x, |i| clean_x(i) && !text_x[i as usize]),
         gaps_y: gaps(h, &y, |i| clean_y(i) && !text_y[i as usize]),
+        blank_x: runs_where(w, |i| clean_x(i) && !text_x[i as usize]),
+        blank_y: runs_where(h, |i| clean_y(i) && !text_y[i as usize]),
         x,
         y,
         ..Bands::default()

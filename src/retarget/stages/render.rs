@@ -335,7 +335,8 @@ fn floating_marks(
             areas: &maps,
             canvas,
         };
-        let placements = crate::render::area_text_placements(src, s, area_maps, warp.target());
+        let placements =
+            crate::render::area_text_layout(src, s, area_maps, warp.target(), author_size).0;
         for (t, p) in s.text.iter().zip(placements) {
             let Some(p) = p else { continue };
             let (bw, bh) = ((t.x1 - t.x0) as f64, (t.y1 - t.y0) as f64);
@@ -390,7 +391,13 @@ fn floating_marks(
         let (k, colour) = match in_areas[i - n_loose].1 {
             InArea::Mark(k, c) => (k, c),
             // A text block's box and a pixel around it: its glyphs with their edges.
-            InArea::Text(p) => return Some((p.centre, p.scale, 1, MaskKind::Whole)),
+            InArea::Text(p) => {
+                let kind = match p.dropped {
+                    true => MaskKind::Dropped,
+                    false => MaskKind::Whole,
+                };
+                return Some((p.centre, p.scale, 1, kind));
+            }
         };
         let [ax, bx, ay, by] = area_maps.at(k, mk.center)?;
         let scale = mark_scale.unwrap_or((ax * ay).max(0.0).sqrt());
