@@ -166,7 +166,7 @@ pub struct Cli {
     /// picture, .gif for an animation, .y4m for YUV4MPEG2; a folder (existing, or ending in /)
     /// for one PNG per frame (a single picture keeps its name: in.jpg -o out/ writes
     /// out/in.png); - for stdout (one picture as PNG, a stream as YUV4MPEG2: see
-    /// --output-format). An animated GIF or a folder of frames needs a .gif, a folder or -,
+    /// --output-format), and so is a device such as /dev/null. An animated GIF or a folder of frames needs a .gif, a folder or -,
     /// not one picture. Replaces an existing file only when the run succeeds. The folder a
     /// file goes into must exist; a folder output ending in / is created if missing (its
     /// parent must exist).

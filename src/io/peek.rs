@@ -97,7 +97,8 @@ pub fn peek_input(
         }
         Some(Magic::Gif) => {
             read_rest(&mut reader, &mut bytes, max, name)?;
-            let frames = count_frames(&bytes[..], limits.max_frames).map(|(n, _)| n);
+            // All of them (the bytes are in memory): a limit is checked when they are read.
+            let frames = count_frames(&bytes[..], None).map(|(n, _)| n);
             Ok(picture(bytes, frames))
         }
         Some(Magic::Png) => {
@@ -151,7 +152,15 @@ fn read_png(
 ) -> Result<bool, Error> {
     let mut take = |bytes: &mut Vec<u8>, n: u64| -> Result<bool, Error> {
         if bytes.len() as u64 + n > max {
-            return Err(too_large(name, max));
+            // In the words of the stream's reader, which would meet the same chunk.
+            return Err(Error::decode(
+                name,
+                format!(
+                    "PNG 0 is corrupt or larger than {} (a chunk claims {} bytes)",
+                    human_bytes(max),
+                    n.saturating_sub(4)
+                ),
+            ));
         }
         let got = (&mut *reader)
             .take(n)
