@@ -438,10 +438,14 @@ fn one_picture_on_stdin_is_one_picture() {
         assert!(out.status.success(), "{name}: {}", stderr(&out));
         assert_eq!(png_size(&out.stdout), (60, 80), "{name} to stdout is a PNG");
     }
-    // Into a folder, one picture keeps the name stdin goes by.
-    let out = run_with_stdin(dir.path(), &["-", "--width", "60", "-o", "pics/"], &png);
+    // Into a folder, numbered as a stream's frames are: stdin names none.
+    let out = run_with_stdin(
+        dir.path(),
+        &["-", "--width", "60", "-o", "pics/", "-q"],
+        &png,
+    );
     assert!(out.status.success(), "{}", stderr(&out));
-    let written = std::fs::read(dir.path().join("pics/stdin.png")).unwrap();
+    let written = std::fs::read(dir.path().join("pics/frame-00000.png")).unwrap();
     assert_eq!(png_size(&written), (60, 80));
     // One picture may take the options of one picture only.
     let out = run_with_stdin(

@@ -85,11 +85,8 @@ impl Shape {
     }
 }
 
-/// The name of one picture written into a folder: the input's stem (`stdin` for `-`), as PNG.
+/// The name of one picture written into a folder: the input's stem, as PNG.
 pub fn picture_name(input: &Path) -> PathBuf {
-    if is_std(input) {
-        return PathBuf::from(format!("{STDIN_NAME}.png"));
-    }
     let stem = input
         .file_stem()
         .map_or_else(|| "picture".into(), |s| s.to_string_lossy().into_owned());

@@ -128,8 +128,9 @@ pub fn run(cli: Cli) -> Result<Outcome> {
                 output.display()
             )
         }
-        // One picture into a folder keeps its name, as a folder of frames does.
-        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) => {
+        // One picture into a folder keeps its name, as a folder of frames does (from stdin,
+        // which names none, it is numbered as a stream's frames are).
+        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) if !is_std(&input) => {
             stream::check_output_place(&output, SinkFormat::PngSeq)?;
             let file = output.join(picture_name(&input));
             if !output.is_dir() {
