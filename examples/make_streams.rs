@@ -16,6 +16,10 @@
 //!
 //! Each stream is also written as an animated GIF beside its folder (`dashboard.gif`, ...),
 //! read back from the PNGs and encoded with the library's GIF writer (`vizretarget::io`).
+//!
+//! `marks/` holds the inputs of the README's vector-marks examples: `map.png` (the scatter
+//! map without its dots), `dots.json` (the first frame's 30 dots as a layer of vector marks)
+//! and `scatter-map.jsonl` (each frame's dots, one line per frame of `scatter-map/`).
 
 use image::{Rgb, RgbImage};
 use std::f32::consts::TAU;
@@ -263,23 +267,56 @@ fn scatter_map(dir: &Path) {
         });
         dots.push((x.clamp(12.0, 708.0), y.clamp(12.0, 393.0), r));
     }
+    // The dots of frame `f`: centre, radius, colour.
+    let dots_at = |f: usize| -> Vec<(f32, f32, f32, C)> {
+        let a = f as f32 / 30.0 * TAU;
+        (dots.iter().enumerate())
+            .map(|(i, &(x, y, r))| {
+                let (x, y) = match i {
+                    0 => (x + 60.0 * a.cos(), y + 30.0 * a.sin()), // circles
+                    1 => (x + f as f32 * 6.0, y),                  // drifts east
+                    2 => (x, y + 25.0 * (2.0 * a).sin()),          // bobs
+                    _ => (x, y),
+                };
+                (x, y, r, PALETTE[(i + i / 4) % 8])
+            })
+            .collect()
+    };
+    let mut map = RgbImage::from_pixel(720, 405, Rgb([198, 224, 242]));
+    for (pts, c) in &lands {
+        polygon(&mut map, pts, *c);
+    }
+    let mut lines = String::new();
     for f in 0..30 {
-        let mut img = RgbImage::from_pixel(720, 405, Rgb([198, 224, 242]));
-        for (pts, c) in &lands {
-            polygon(&mut img, pts, *c);
-        }
-        for (i, &(x, y, r)) in dots.iter().enumerate() {
-            let a = f as f32 / 30.0 * TAU;
-            let (x, y) = match i {
-                0 => (x + 60.0 * a.cos(), y + 30.0 * a.sin()), // circles
-                1 => (x + f as f32 * 6.0, y),                  // drifts east
-                2 => (x, y + 25.0 * (2.0 * a).sin()),          // bobs
-                _ => (x, y),
-            };
-            disc(&mut img, x, y, r, PALETTE[(i + i / 4) % 8]);
+        let mut img = map.clone();
+        for &(x, y, r, c) in &dots_at(f) {
+            disc(&mut img, x, y, r, c);
         }
         save(&img, dir, f);
+        lines.push_str(&layer_json(&dots_at(f)));
+        lines.push('\n');
     }
+    // The vector marks' samples: the map without its dots, the first frame's dots as one
+    // layer, and every frame's as JSON Lines.
+    let marks = dir.parent().unwrap_or(Path::new(".")).join("marks");
+    std::fs::create_dir_all(&marks).expect("create marks folder");
+    map.save(marks.join("map.png")).expect("write map.png");
+    std::fs::write(marks.join("dots.json"), layer_json(&dots_at(0)) + "\n").expect("dots.json");
+    std::fs::write(marks.join("scatter-map.jsonl"), lines).expect("scatter-map.jsonl");
+    println!("wrote {}", marks.display());
+}
+
+/// Dots as a layer of vector marks (the JSON of `vizretarget::vector`), on one line.
+fn layer_json(dots: &[(f32, f32, f32, C)]) -> String {
+    let points: Vec<String> = dots
+        .iter()
+        .map(|&(x, y, r, [cr, cg, cb])| {
+            format!(
+                "{{\"x\": {x:.1}, \"y\": {y:.1}, \"r\": {r:.1}, \"fill\": \"#{cr:02x}{cg:02x}{cb:02x}\"}}"
+            )
+        })
+        .collect();
+    format!("{{\"points\": [{}]}}", points.join(", "))
 }
 
 fn graph(dir: &Path) {

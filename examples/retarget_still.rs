@@ -8,8 +8,10 @@
 //! cargo run --release --example retarget_still -- out.png  # writes out.png
 //! ```
 //!
-//! The dots stay round; the white space between them absorbs the change. A plain resize to the
-//! same size would squash them into ellipses half as wide as they are tall.
+//! Under the default options the picture keeps its shape: the dots are drawn at one scale, the
+//! one that fits the new width (about 0.6 here: the white margins around them give way),
+//! centred on their white ground, so they stay round. A plain resize to the same size would
+//! squash them into ellipses half as wide as they are tall.
 
 use std::path::PathBuf;
 use vizretarget::io::{write_still, OutputFormat};
@@ -36,8 +38,10 @@ fn main() -> Result<(), vizretarget::Error> {
         }
     }
 
-    // 2. Retarget. `Options::default()` is the paper's setting (mesh spacing alpha = 20 px);
-    //    `Size::new` refuses zero and sides above `vizretarget::MAX_SIDE`.
+    // 2. Retarget. `Options::default()` is the command line's default (`--regions affine`:
+    //    one map per axis, with the margins giving way); `with_regions(Regions::Free)` is the
+    //    paper's mesh everywhere. `Size::new` refuses zero and sides above
+    //    `vizretarget::MAX_SIDE`.
     let target = Size::new(size.width / 2, size.height)?;
     let out = retarget(&image, target, &Options::default())?;
     let s = &out.stats;

@@ -546,9 +546,9 @@ fn gif_frame_limit_is_exact() {
 }
 
 #[test]
-fn gif_on_stdin_past_the_frame_limit_keeps_the_frames_before() {
-    // A pipe cannot be counted first: the frame past the limit ends the run with an error,
-    // and the output holds the frames before it, complete (documented in --help).
+fn gif_on_stdin_past_the_frame_limit_is_refused_before_decoding() {
+    // A GIF on stdin is one animation, read whole (issue 39): its frames are counted first,
+    // as a GIF file's are, and nothing is written.
     let dir = tempfile::tempdir().unwrap();
     let out = run_with_stdin(
         dir.path(),
@@ -564,9 +564,8 @@ fn gif_on_stdin_past_the_frame_limit_keeps_the_frames_before() {
         ],
         gif_frames(5),
     );
-    assert_fails(&out, &["stdin", "past 3 frames", "--max-frames"]);
-    assert_eq!(gif_frame_count(&dir.path().join("out.gif")), 3);
-    assert_only(dir.path(), &["out.gif"]);
+    assert_fails(&out, &["stdin", "more than 3 frames", "--max-frames"]);
+    assert_only(dir.path(), &[]);
 }
 
 #[test]
@@ -902,11 +901,17 @@ fn png_stream_chunk_claiming_two_gigabytes() {
 
 #[test]
 fn png_stream_truncated() {
+    // One PNG cut short is one picture (issue 39), named as such.
     let dir = tempfile::tempdir().unwrap();
     let png = png_bytes(300, 200);
     let out = png_stream_run(dir.path(), &png[..png.len() / 2]);
-    assert_fails(&out, &["stdin", "PNG 0", "incomplete"]);
+    assert_fails(&out, &["stdin", "truncated PNG"]);
     assert_only(dir.path(), &[]);
+    // A stream whose second PNG is cut short keeps the first.
+    let input = [&png[..], &png[..png.len() / 2]].concat();
+    let out = png_stream_run(dir.path(), &input);
+    assert_fails(&out, &["stdin", "PNG 1", "incomplete"]);
+    assert_eq!(gif_frame_count(&dir.path().join("out.gif")), 1);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -341,11 +341,17 @@ fn help_teaches() {
     assert!(out.status.success());
     let help = String::from_utf8_lossy(&out.stdout);
     assert!(help.contains("aspect ratio"), "{help}");
-    assert!(help.contains("Examples:"), "{help}");
+    assert!(help.contains("Examples (run from a clone"), "{help}");
     assert_eq!(
-        help.matches("    vizretarget ").count(),
+        help.matches("\n    vizretarget ").count(),
         3,
-        "three examples: {help}"
+        "three examples first: {help}"
+    );
+    // clap wraps the help at 100 columns: an example longer than that would be cut in two.
+    let examples = help.split("\nExamples").nth(1).unwrap();
+    assert!(
+        examples.lines().all(|l| l.chars().count() <= 100),
+        "{examples}"
     );
     for want in [
         "1 to 16384",
@@ -375,4 +381,194 @@ fn an_unwritable_debug_folder_is_named() {
         ],
     );
     assert_fails(&out, 1, &["--debug-dir", "file/dbg"]);
+}
+
+/// `chart(w, h)` encoded as `format`.
+fn encoded(w: u32, h: u32, format: image::ImageFormat) -> Vec<u8> {
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::DynamicImage::ImageRgb8(chart(w, h))
+        .write_to(&mut out, format)
+        .unwrap();
+    out.into_inner()
+}
+
+/// An animated GIF of `n` frames of `chart(w, h)`.
+fn animated_gif(w: u32, h: u32, n: usize) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    {
+        let mut enc = image::codecs::gif::GifEncoder::new(&mut bytes);
+        let frame = image::DynamicImage::ImageRgb8(chart(w, h)).into_rgba8();
+        enc.encode_frames((0..n).map(|_| image::Frame::new(frame.clone())))
+            .unwrap();
+    }
+    bytes
+}
+
+/// The size of the PNG in `bytes`, and that it is one.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
+    let img = image::load_from_memory_with_format(bytes, image::ImageFormat::Png).unwrap();
+    (img.width(), img.height())
+}
+
+/// One picture on stdin is one picture, recognised by content as image tools read `-`: a PNG,
+/// JPEG, WebP or GIF file; to a file, to stdout (as PNG), into a folder. A stream of PNGs stays
+/// a stream, and an animated GIF an animation (issue 39).
+#[test]
+fn one_picture_on_stdin_is_one_picture() {
+    use common::run_with_stdin;
+    use image::ImageFormat;
+    let dir = tempfile::tempdir().unwrap();
+    let png = png_bytes(120, 80);
+    for (name, bytes) in [
+        ("png", png.clone()),
+        ("jpeg", encoded(120, 80, ImageFormat::Jpeg)),
+        ("webp", encoded(120, 80, ImageFormat::WebP)),
+        ("gif", encoded(120, 80, ImageFormat::Gif)),
+    ] {
+        let out = run_with_stdin(
+            dir.path(),
+            &["-", "--width", "50%", "-o", "out.png"],
+            &bytes,
+        );
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let written = std::fs::read(dir.path().join("out.png")).unwrap();
+        assert_eq!(png_size(&written), (60, 80), "{name}");
+        let out = run_with_stdin(dir.path(), &["-", "--width", "50%", "-o", "-"], &bytes);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        assert_eq!(png_size(&out.stdout), (60, 80), "{name} to stdout is a PNG");
+    }
+    // Into a folder, numbered as a stream's frames are: stdin names none.
+    let out = run_with_stdin(
+        dir.path(),
+        &["-", "--width", "60", "-o", "pics/", "-q"],
+        &png,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let written = std::fs::read(dir.path().join("pics/frame-00000.png")).unwrap();
+    assert_eq!(png_size(&written), (60, 80));
+    // One picture may take the options of one picture only.
+    let out = run_with_stdin(
+        dir.path(),
+        &["-", "--width", "60", "-o", "dbg.png", "--debug-dir", "dbg"],
+        &png,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("dbg/mesh-after.png").is_file());
+    // Two PNGs are a stream: not one picture, and YUV4MPEG2 on stdout.
+    let two = [png.clone(), png_bytes(120, 80)].concat();
+    let out = run_with_stdin(dir.path(), &["-", "--width", "60", "-o", "two.png"], &two);
+    assert_fails(&out, 2, &["two.png", "stream"]);
+    let out = run_with_stdin(dir.path(), &["-", "--width", "60", "-o", "-", "-q"], &two);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout.starts_with(b"YUV4MPEG2 W60 H80"));
+    assert_eq!(out.stdout.windows(6).filter(|w| w == b"FRAME\n").count(), 2);
+    // An animated GIF is an animation: refused into one picture, naming stdin, and whole into
+    // a GIF.
+    let gif = animated_gif(120, 80, 3);
+    let out = run_with_stdin(dir.path(), &["-", "--width", "60", "-o", "anim.png"], &gif);
+    assert_fails(&out, 2, &["stdin", "3 frames", "anim.png"]);
+    let out = run_with_stdin(
+        dir.path(),
+        &["-", "--width", "60", "-o", "anim.gif", "-q"],
+        &gif,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let frames = image::codecs::gif::GifDecoder::new(std::io::Cursor::new(
+        std::fs::read(dir.path().join("anim.gif")).unwrap(),
+    ))
+    .unwrap();
+    use image::AnimationDecoder;
+    assert_eq!(frames.into_frames().count(), 3);
+    // What is no picture on stdin is named as such.
+    let out = run_with_stdin(dir.path(), &["-", "--width", "60", "-o", "x.png"], b"hello");
+    assert_fails(&out, 1, &["stdin", "not a picture"]);
+    assert!(!dir.path().join("x.png").exists());
+}
+
+/// `--size 50%` scales both sides, as ImageMagick's `-resize 50%` does (issue 39).
+#[test]
+fn a_lone_percentage_scales_both_sides() {
+    let (dir, _) = folder_with("in.png", &png_bytes(120, 80));
+    for (size, want) in [("200%", (240, 160)), ("50%", (60, 40)), ("50%x", (60, 80))] {
+        let out = run(dir.path(), &["in.png", "--size", size, "-o", "out.png"]);
+        assert!(out.status.success(), "{size}: {}", stderr(&out));
+        let img = image::open(dir.path().join("out.png")).unwrap();
+        assert_eq!((img.width(), img.height()), want, "{size}");
+    }
+    let out = run(dir.path(), &["in.png", "--size", "0%", "-o", "out.png"]);
+    assert_fails(&out, 2, &["0%", "out of range"]);
+}
+
+/// Watching a folder that is not there says so (issue 39), and a file is not a folder.
+#[test]
+fn watching_a_missing_folder_says_it_does_not_exist() {
+    let (dir, _) = folder_with("in.png", &png_bytes(120, 80));
+    let out = run(
+        dir.path(),
+        &["watch", "nowhere/", "-o", "out/", "--width", "60"],
+    );
+    assert_fails(&out, 1, &["nowhere/", "does not exist"]);
+    let out = run(
+        dir.path(),
+        &["watch", "in.png", "-o", "out/", "--width", "60"],
+    );
+    assert_fails(&out, 1, &["in.png", "not a folder"]);
+    assert_only(dir.path(), &["in.png"]);
+}
+
+/// `-o /dev/null` writes and discards, to time a run (issue 39): for one picture, a stream
+/// and the statistics, and the device stays a device.
+#[cfg(unix)]
+#[test]
+fn dev_null_takes_any_output() {
+    use std::os::unix::fs::FileTypeExt;
+    let (dir, _) = folder_with("in.png", &png_bytes(120, 80));
+    std::fs::write(dir.path().join("anim.gif"), animated_gif(120, 80, 3)).unwrap();
+    for args in [
+        &["in.png", "--width", "60", "-o", "/dev/null"][..],
+        &[
+            "in.png",
+            "--width",
+            "60",
+            "-o",
+            "/dev/null",
+            "--output-format",
+            "png",
+        ],
+        &[
+            "anim.gif",
+            "--width",
+            "60",
+            "-o",
+            "/dev/null",
+            "--stats-json",
+            "/dev/null",
+        ],
+        &[
+            "anim.gif",
+            "--width",
+            "60",
+            "-o",
+            "/dev/null",
+            "--output-format",
+            "gif",
+        ],
+    ] {
+        let out = run(dir.path(), args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        let meta = std::fs::metadata("/dev/null").unwrap();
+        assert!(
+            meta.file_type().is_char_device(),
+            "/dev/null is still a device"
+        );
+    }
+    assert_only(dir.path(), &["anim.gif", "in.png"]);
+    // Nothing left beside it either.
+    let litter: Vec<_> = std::fs::read_dir("/dev")
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with(".null."))
+        .collect();
+    assert!(litter.is_empty(), "{litter:?}");
 }

@@ -360,12 +360,15 @@ fn empty_stdin_says_what_may_have_gone_wrong_upstream() {
 fn help_pipe_examples_give_pixel_format_and_frame_rate() {
     let help = String::from_utf8(bin().arg("--help").output().unwrap().stdout).unwrap();
     assert!(
-        help.contains("ffmpeg -i talk.mp4 -f yuv4mpegpipe -pix_fmt yuv420p - | vizretarget -"),
+        help.contains(
+            "ffmpeg -i streams/scatter-map.gif -f yuv4mpegpipe -pix_fmt yuv420p - \\\n      \
+             | vizretarget -"
+        ),
         "{help}"
     );
     let raw = help
         .lines()
-        .skip_while(|l| !l.contains("ffmpeg -i in.mp4 -f rawvideo"))
+        .skip_while(|l| !l.contains("ffmpeg -i streams/dashboard.gif -f rawvideo"))
         .take(2)
         .collect::<String>();
     assert!(

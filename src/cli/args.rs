@@ -7,53 +7,65 @@ use vizretarget::{ReuseOptions, Size};
 
 /// Help text after the options of `--help`: worked examples and exit codes.
 const EXAMPLES: &str = "\
-Examples:
+Examples (run from a clone of the repository: the inputs are its samples in streams/, the
+outputs go to out/, which git ignores):
   Fit a landscape scatter map on a portrait phone screen:
-    vizretarget map.png --size 360x640 -o map-portrait.png
+    vizretarget streams/scatter-map/frame-0000.png --size 360x640 -o out/map-portrait.png
 
   Halve a dashboard's width, keep its height, print mesh size and timings:
-    vizretarget dashboard.png --width 320 -o dashboard-narrow.png --stats
+    vizretarget streams/dashboard/frame-0000.png --width 320 -o out/dashboard-narrow.png --stats
 
   Make a graph square with a finer mesh, as JPEG, keeping pictures of each stage:
-    vizretarget graph.png --size 600x600 --alpha 12 -o graph-square.jpg --debug-dir debug/
+    vizretarget streams/graph/frame-0019.png --size 600x600 --alpha 12 -o out/graph-square.jpg \\
+        --debug-dir out/debug/
 
-Streams: every frame goes through one pipeline that keeps the mesh while the content barely
-changes. A summary line (frames, fps, share of frames reused / updated / rebuilt, ms per stage)
-ends each run.
-  vizretarget live.gif --size 360x640 -o live-portrait.gif
+Streams: every frame goes through one pipeline. A summary line ends each run: frames, fps,
+what was kept from frame to frame (under the default --regions affine, how many frames were
+unchanged and how many resampled afresh; with a mesh, the share of frames whose mesh was
+reused, updated or rebuilt), ms per stage.
+  vizretarget streams/dashboard.gif --size 360x640 -o out/dashboard-portrait.gif
       An animated GIF to a portrait GIF: delays and loop count kept.
-  vizretarget frames/ --width 400 -o narrow/ --stats-json stats.json
+  vizretarget streams/dashboard/ --width 400 -o out/narrow/ --stats-json out/stats.json
       A folder of PNG/JPEG frames, in natural order (frame2 before frame10), to a folder of
       PNGs with the same names, and per-frame statistics as JSON.
-  ffmpeg -i talk.mp4 -f yuv4mpegpipe -pix_fmt yuv420p - | vizretarget - --size 720x720 -o square.gif
+  ffmpeg -i streams/scatter-map.gif -f yuv4mpegpipe -pix_fmt yuv420p - \\
+      | vizretarget - --size 720x720 -o out/square.gif
       Video piped in as YUV4MPEG2 (or as PNGs: -f image2pipe -c:v png -), recognised by
       content, written as a GIF. Keep -pix_fmt yuv420p: from a GIF or RGB source ffmpeg
       writes nothing to yuv4mpegpipe without it.
-  ffmpeg -i in.mp4 -f rawvideo -pix_fmt rgba - \\
-      | vizretarget - --input-format rgba --input-size 1280x720 --fps 30 --size 720x720 -o - \\
-      | ffmpeg -f yuv4mpegpipe -i - out.mp4
+  ffmpeg -i streams/dashboard.gif -f rawvideo -pix_fmt rgba - \\
+      | vizretarget - --input-format rgba --input-size 640x360 --fps 4 --size 360x360 -o - \\
+      | ffmpeg -f yuv4mpegpipe -i - out/dashboard-square.mp4
       Raw frames in (they need --input-format and --input-size, and --fps: raw frames carry
       no rate, and YUV4MPEG2 out would otherwise say 25 fps), YUV4MPEG2 out (the default for
       a stream on stdout; also --output-format rgba, rgb24 or png).
-  vizretarget chart.png --width 50% -o - > small.png
-      One picture to stdout is a PNG. Sizes may be percentages of the input's (50%, or
-      --size 50%x100%) or one side (--size 400x keeps the height).
-  vizretarget watch snapshots/ -o phone/ --size 360x640
-      Retarget each new or replaced dashboard snapshot as it lands, into phone/ under the same
-      name. Ctrl-C (or SIGTERM) stops.
-  vizretarget completions bash > /etc/bash_completion.d/vizretarget
-      Shell completions (bash, zsh or fish) on stdout.
+  cat streams/graph/frame-0000.png | vizretarget - --size 50% -o - > out/small.png
+      One picture on stdin (a PNG, JPEG, WebP or GIF file, by content; several PNGs are a
+      stream) or to stdout is a PNG. Sizes may be percentages of the input's (50% for both
+      sides, or --size 50%x100%) or one side (--size 400x keeps the height).
+  vizretarget streams/graph.gif --width 50% -o /dev/null --stats
+      Time a run without keeping its output.
+  vizretarget watch streams/dashboard/ -o out/phone/ --size 360x640
+      Retarget each dashboard snapshot in the folder, then each new or replaced one as it
+      lands, into out/phone/ under the same name. Ctrl-C (or SIGTERM) stops.
+  vizretarget completions bash > out/vizretarget.bash
+      Shell completions (bash, zsh or fish) on stdout; put them where the shell looks, e.g.
+      ~/.local/share/bash-completion/completions/vizretarget.
 
 Vector marks and enhancement (the paper's 5.3 and 5.4):
-  vizretarget map.png --marks dots.json --width 400 -o map-narrow.png
+  vizretarget streams/marks/map.png --marks streams/marks/dots.json --width 400 \\
+      -o out/map-narrow.png
       The map is resized as a picture; the dots of dots.json are carried by the mesh and
       drawn crisp and round over it. dots.json: {\"points\": [{\"x\": 120, \"y\": 80, \"r\": 6,
       \"fill\": \"#d7191c\"}, ...], \"edges\": [{\"from\": 0, \"to\": 1, \"width\": 1.5}]}. Add
       --paint-out-marks when the picture shows the dots too.
-  vizretarget map.png --same-size --enhance-region 300,120,200,150=1.5 -o europe.png
+  vizretarget streams/marks/map.png --same-size --enhance-region 300,60,300,150=1.5 \\
+      -o out/enlarged.png
       Enlarge a crowded region by half without changing the canvas size.
-  vizretarget frames/ --marks marks.jsonl --enhance 1,1,1.3 --width 400 -o narrow.gif
-      A stream with one line of marks per frame; salient content 30 % larger on every frame.
+  vizretarget streams/scatter-map/ --marks streams/marks/scatter-map.jsonl --paint-out-marks \\
+      --enhance 1,1,1.3 --width 400 -o out/narrow.gif
+      A stream with one line of marks per frame, painted out of the frames and drawn again;
+      salient content 30 % larger on every frame.
 
 Limits: an input is refused from its header, before any large allocation, when a frame has more
 than --max-pixels pixels (default 40000000), a file or folder more than --max-frames frames
@@ -84,8 +96,9 @@ snapshot, so snapshots of different sizes keep their own height (--width) or wid
 One line per snapshot on stderr unless --quiet; at the end, how many were retargeted and how
 long each took (mean and max ms).
 
-Example:
-  vizretarget watch snapshots/ -o phone/ --size 360x640 --stats-json phone-stats.json
+Example (from a clone of the repository: its folder of sample frames, outputs in out/):
+  vizretarget watch streams/graph/ -o out/graph-phone/ --size 360x640 \\
+      --stats-json out/graph-phone.json
 
 Exit status: 130 after SIGINT (Ctrl-C), 143 after SIGTERM (the snapshot in flight is finished
 first), 1 if DIR cannot be watched or OUTDIR cannot be created, 2 usage error.";
@@ -105,8 +118,9 @@ distortion, how far salient content is from a similarity (0: only scaled; halvin
 linearly: 0.47); sal.area, the output area of the source's salient pixels over their area (1:
 marks kept at their size); vertices and DOF of mesh and grid; milliseconds per stage.
 
-Example:
-  vizretarget compare map.png --width 400 -o map-compare.png --mesh --metrics
+Example (from a clone of the repository: a sample frame, the sheet in out/):
+  vizretarget compare streams/scatter-map/frame-0000.png --width 400 -o out/map-compare.png \\
+      --mesh --metrics
 
 Exit status: 0 done, 1 the input could not be read or the sheet not written, 2 usage error.";
 
@@ -143,8 +157,8 @@ pub struct Cli {
     pub command: Option<Command>,
 
     /// Input: a PNG, JPEG, WebP or GIF (animated or not), recognised by content, not by name; a
-    /// folder of PNG/JPEG frames; or - for stdin (YUV4MPEG2 or a PNG stream, recognised; raw
-    /// frames with --input-format). Up to 16384 px on a side.
+    /// folder of PNG/JPEG frames; or - for stdin (one picture as a file holds it, a PNG stream
+    /// or YUV4MPEG2, recognised; raw frames with --input-format). Up to 16384 px on a side.
     #[arg(required = true)]
     pub input: Option<PathBuf>,
 
@@ -152,7 +166,7 @@ pub struct Cli {
     /// picture, .gif for an animation, .y4m for YUV4MPEG2; a folder (existing, or ending in /)
     /// for one PNG per frame (a single picture keeps its name: in.jpg -o out/ writes
     /// out/in.png); - for stdout (one picture as PNG, a stream as YUV4MPEG2: see
-    /// --output-format). An animated GIF or a folder of frames needs a .gif, a folder or -,
+    /// --output-format), and so is a device such as /dev/null. An animated GIF or a folder of frames needs a .gif, a folder or -,
     /// not one picture. Replaces an existing file only when the run succeeds. The folder a
     /// file goes into must exist; a folder output ending in / is created if missing (its
     /// parent must exist).
@@ -161,7 +175,7 @@ pub struct Cli {
 
     /// Target size as WIDTHxHEIGHT, each side in px (1 to 16384) or as a percentage of the
     /// input's, e.g. 400x600, 50%x100%; leave a side out to keep it as in the input: 400x,
-    /// x300. Not together with --width or --height.
+    /// x300; one percentage scales both sides: 200%. Not together with --width or --height.
     #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
           conflicts_with_all = ["width", "height"], value_parser = parse_size)]
     pub size: Option<Target>,
@@ -427,8 +441,9 @@ fn parse_region(s: &str) -> Result<vizretarget::EnhanceRegion, String> {
 /// Options of streams of frames.
 #[derive(clap::Args, Debug, Default)]
 pub struct StreamArgs {
-    /// How to read stdin (or a file): auto recognises YUV4MPEG2 and PNG streams by content;
-    /// rgba and rgb24 are raw frames as `ffmpeg -f rawvideo -pix_fmt rgba -` writes them and
+    /// How to read stdin (or a file): auto recognises by content one picture (a PNG followed
+    /// by the end of the input, a JPEG, WebP or GIF file), a PNG stream or YUV4MPEG2; png
+    /// reads a PNG stream even of one PNG; rgba and rgb24 are raw frames as `ffmpeg -f rawvideo -pix_fmt rgba -` writes them and
     /// need --input-size.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = InputArg::Auto)]
     pub input_format: InputArg,
@@ -554,7 +569,7 @@ pub struct CompareArgs {
     pub output: PathBuf,
 
     /// Target size as WIDTHxHEIGHT, each side in px (1 to 16384) or a percentage of the
-    /// input's (50%x100%); 400x or x300 keep the other side.
+    /// input's (50%x100%); 400x or x300 keep the other side; 50% scales both sides.
     #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
           conflicts_with_all = ["width", "height"], value_parser = parse_size)]
     pub size: Option<Target>,
@@ -644,7 +659,8 @@ pub struct WatchArgs {
     pub output: PathBuf,
 
     /// Target size as WIDTHxHEIGHT, each side in px (1 to 16384) or a percentage of each
-    /// snapshot's (50%x100%); 400x or x300 keep the other side as in each snapshot.
+    /// snapshot's (50%x100%); 400x or x300 keep the other side as in each snapshot; 50%
+    /// scales both sides.
     #[arg(short, long, value_name = "WxH", allow_hyphen_values = true,
           conflicts_with_all = ["width", "height"], value_parser = parse_size)]
     pub size: Option<Target>,
@@ -820,9 +836,20 @@ fn parse_px(s: &str) -> Result<u32, String> {
 }
 
 /// `WxH` with each side in px or %, or one side left out (`400x`, `x300`).
+/// A lone percentage (`200%`) scales both sides, as ImageMagick's `-resize 200%` does.
 fn parse_size(s: &str) -> Result<Target, String> {
+    if !s.contains(['x', 'X']) && s.trim().ends_with('%') {
+        let side = parse_side(s)?;
+        return Ok(Target {
+            width: Some(side),
+            height: Some(side),
+        });
+    }
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| {
-        format!("'{s}' is not WIDTHxHEIGHT (e.g. 400x600, 50%x100%, or 400x to keep the height)")
+        format!(
+            "'{s}' is not WIDTHxHEIGHT (e.g. 400x600, 50%x100%, 400x to keep the height) or a \
+             percentage of both sides (50%)"
+        )
     })?;
     let side = |v: &str| -> Result<Option<Side>, String> {
         if v.trim().is_empty() {
@@ -918,6 +945,14 @@ mod tests {
         let t = parse_size("x300").unwrap();
         assert_eq!(t.resolve(from).unwrap(), Size::new(672, 300).unwrap());
         assert_eq!(parse_side(" 12.5% "), Ok(Side::Percent(12.5)));
+        // One percentage is both sides, as ImageMagick reads `-resize 200%`.
+        let t = parse_size("200%").unwrap();
+        assert_eq!(t.resolve(from).unwrap(), Size::new(1344, 960).unwrap());
+        assert_eq!(
+            parse_size("12.5%").unwrap().resolve(from).unwrap(),
+            Size::new(84, 60).unwrap()
+        );
+        assert!(parse_size("0%").unwrap_err().contains("out of range"));
         for bad in ["0%", "-5%", "abc%", "1e9%", "NaN%", "%"] {
             let e = parse_side(bad).unwrap_err();
             assert!(e.contains(bad.trim()), "{bad}: {e}");

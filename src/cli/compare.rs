@@ -1,17 +1,15 @@
-//! `vizretarget compare`: every method on one picture, the labelled sheet and the measures;
-//! and `--method` for one picture with a method other than the mesh.
+//! `vizretarget compare`: every method on one picture, the labelled sheet and the measures.
 
-use super::args::{CompareArgs, MethodArg, Target};
-use super::{library_error, usage, Cli};
+use super::args::{CompareArgs, Target};
+use super::{library_error, usage};
 use anyhow::{bail, Context, Result};
 use std::io::Write;
 use std::path::Path;
 use vizretarget::compare::{compare, SheetOptions};
-use vizretarget::io::OutputFormat;
 use vizretarget::io::{
     probe_still, read_still_with, resolve_output, write_still, Destination, OutputChoice,
 };
-use vizretarget::{debug, retarget_with, Image, Method, Options, Size};
+use vizretarget::Options;
 
 /// Writes the sheet and prints the table (or JSON) on stdout.
 pub fn run(args: &CompareArgs) -> Result<()> {
@@ -56,52 +54,6 @@ pub fn run(args: &CompareArgs) -> Result<()> {
         }
         _ => Ok(()),
     }
-}
-
-/// The still job with `--method` other than mesh: resize, write, and the debug pictures and
-/// stats line that the method has.
-pub fn still_with(
-    cli: &Cli,
-    input: &Path,
-    output: &Path,
-    format: OutputFormat,
-    image: &Image,
-    target: Size,
-    options: &Options,
-) -> Result<()> {
-    let method = Method::from(cli.method);
-    debug_assert_ne!(cli.method, MethodArg::Mesh);
-    let out = retarget_with(method, image, target, options).map_err(library_error)?;
-    super::still::write_output(&out.image, output, format)?;
-    if let Some(dir) = &cli.debug_dir {
-        debug::write_method(dir, image, &out).with_context(|| {
-            format!(
-                "--debug-dir: cannot write the pictures into {}",
-                dir.display()
-            )
-        })?;
-    }
-    if cli.stats {
-        let s = &out.stats;
-        let t = &s.times;
-        let mesh = match (s.vertices, s.triangles, s.dof) {
-            (Some(v), Some(t), Some(d)) => format!("{v} vertices, {t} triangles, DOF {d}; "),
-            _ => String::new(),
-        };
-        eprintln!(
-            "{}: {} -> {} by {method}: {mesh}vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, \
-             render {:.1} ms, total {:.1} ms",
-            input.display(),
-            image.size(),
-            out.image.size(),
-            t.vsm_ms,
-            t.mesh_ms,
-            t.solve_ms,
-            t.render_ms,
-            t.total_ms(),
-        );
-    }
-    Ok(())
 }
 
 /// Fail before the work, not after it: the output's folder must exist.

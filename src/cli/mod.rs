@@ -1,15 +1,17 @@
 //! The command line: parses, wires the library's public API, reports. No method code here.
 //!
-//! - `still.rs`: one picture in, one out (`INPUT.png -o OUT.png`).
+//! - `still.rs`: one picture in, one out (`INPUT.png -o OUT.png`), by any `--method`.
 //! - `stream.rs`: frames in (GIF, folder, stdin), frames out (GIF, folder, stdout), through
 //!   [`vizretarget::Pipeline`].
 //! - `watch.rs`: `vizretarget watch DIR -o OUTDIR`.
 //! - `compare.rs`: `vizretarget compare INPUT -o SHEET.png`: every method side by side.
 //! - `marks.rs`: `--marks` and `--enhance*` (vector marks §5.3, content enhancement §5.4).
+//! - `input.rs`: what the input holds (one picture, an animation, a stream), stdin by content.
 //! - `report.rs`: progress bar, summary line, `--stats-json`; `interrupt.rs`: SIGINT (Ctrl-C) and SIGTERM.
 
 mod args;
 mod compare;
+mod input;
 mod interrupt;
 mod marks;
 mod report;
@@ -21,12 +23,10 @@ pub use args::Cli;
 
 use anyhow::{anyhow, Context, Result};
 use args::{Command, OutputArg};
-use std::path::{Path, PathBuf};
+use input::{picture, picture_name, Shape};
 use vizretarget::io::{
-    is_std, resolve_output, sniff, Destination, GifSource, Magic, OutputChoice, OutputFormat,
-    SinkFormat,
+    is_device, is_std, resolve_output, Destination, OutputChoice, OutputFormat, SinkFormat,
 };
-use vizretarget::stream::FrameSource;
 
 /// How a successful run ended.
 pub enum Outcome {
@@ -104,46 +104,67 @@ pub fn run(cli: Cli) -> Result<Outcome> {
         usage!("--marks, --paint-out-marks and --enhance* work with --method mesh (the default)");
     }
     let destination = resolve_output(&output, choice).map_err(library_error)?;
-    let shape = Shape::of(&input, &cli.limits_for(false))?;
+    let (shape, peeked) = Shape::of(&cli, &input)?;
     match (destination, shape) {
         (Destination::Still(format), Shape::Picture | Shape::UnreadableGif) => {
-            still::run(&cli, &input, &output, format)?;
+            still::run(&cli, &input, picture(peeked).as_ref(), &output, format)?;
             Ok(Outcome::Done)
         }
         (Destination::Still(_), Shape::Animation(n)) => usage!(
             "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a .gif, \
              or a folder (ending in /) for one PNG per frame",
-            input.display(),
+            input::name(&input).display(),
             output.display()
         ),
-        (Destination::Still(_), Shape::Stream) => usage!(
-            "{}: one picture cannot hold a stream of frames: write a .gif, a folder (ending \
-             in /), or - (stdout)",
-            output.display()
-        ),
-        // One picture into a folder keeps its name, as a folder of frames does.
-        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) => {
+        (Destination::Still(_), Shape::Stream) => {
+            // What stdin held and was no picture: first what is wrong with it, if anything.
+            if let Some(peeked) = peeked {
+                let limits = cli.limits_for(true);
+                vizretarget::io::open_peeked(peeked, &limits).map_err(library_error)?;
+            }
+            usage!(
+                "{}: one picture cannot hold a stream of frames: write a .gif, a folder (ending \
+                 in /), or - (stdout)",
+                output.display()
+            )
+        }
+        // One picture into a folder keeps its name, as a folder of frames does (from stdin,
+        // which names none, it is numbered as a stream's frames are).
+        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) if !is_std(&input) => {
             stream::check_output_place(&output, SinkFormat::PngSeq)?;
             let file = output.join(picture_name(&input));
             if !output.is_dir() {
                 std::fs::create_dir(&output)
                     .with_context(|| format!("{}: cannot create the folder", output.display()))?;
             }
-            still::run(&cli, &input, &file, OutputFormat::Png)?;
+            still::run(
+                &cli,
+                &input,
+                picture(peeked).as_ref(),
+                &file,
+                OutputFormat::Png,
+            )?;
             Ok(Outcome::Done)
         }
-        // One picture on stdout is a PNG file, as image tools write it.
+        // One picture on stdout (or a device: /dev/null) is a PNG file, as image tools
+        // write it.
         (Destination::Stream(_), Shape::Picture)
-            if is_std(&output) && choice == OutputChoice::Auto =>
+            if (is_std(&output) || is_device(&output)) && choice == OutputChoice::Auto =>
         {
-            still::run(&cli, &input, &output, OutputFormat::Png)?;
+            still::run(
+                &cli,
+                &input,
+                picture(peeked).as_ref(),
+                &output,
+                OutputFormat::Png,
+            )?;
             Ok(Outcome::Done)
         }
         (Destination::Stream(_), _) if cli.method != args::MethodArg::Mesh => usage!(
             "--method {} is for one picture; streams are retargeted with mesh",
             vizretarget::Method::from(cli.method)
         ),
-        (Destination::Stream(format), _) => stream::run(&cli, &input, &output, format),
+        (Destination::Stream(format), _) => stream::run(&cli, &input, peeked, &output, format),
     }
 }
 
@@ -166,52 +187,6 @@ fn completions(shell: args::ShellArg) -> Result<()> {
         }
         _ => Ok(()),
     }
-}
-
-/// What an input holds, to choose between the still job and the stream job.
-enum Shape {
-    /// One picture: a PNG, JPEG or WebP file, or a GIF file of one frame.
-    Picture,
-    /// A GIF file of this many frames (more than one).
-    Animation(u64),
-    /// A folder or stdin: frames, however many.
-    Stream,
-    /// A GIF file whose blocks cannot be walked to the end: read as one picture if one is
-    /// asked for (the reader names what is wrong), else as a stream, which keeps the frames
-    /// before the fault.
-    UnreadableGif,
-}
-
-impl Shape {
-    fn of(input: &Path, limits: &vizretarget::Limits) -> Result<Shape> {
-        if is_std(input) || input.is_dir() {
-            return Ok(Shape::Stream);
-        }
-        let mut head = Vec::new();
-        // A file that cannot be read is a picture here: the still job names what is wrong.
-        if let Ok(f) = std::fs::File::open(input) {
-            use std::io::Read;
-            let _ = f.take(16).read_to_end(&mut head);
-        }
-        if sniff(&head) != Some(Magic::Gif) {
-            return Ok(Shape::Picture);
-        }
-        // Counted by walking the blocks, without decoding.
-        let gif = GifSource::open_with(input, limits).map_err(library_error)?;
-        Ok(match gif.len_hint() {
-            Some(n) if n <= 1 => Shape::Picture,
-            Some(n) => Shape::Animation(n as u64),
-            None => Shape::UnreadableGif,
-        })
-    }
-}
-
-/// The name of one picture written into a folder: the input's stem, as PNG.
-fn picture_name(input: &Path) -> PathBuf {
-    let stem = input
-        .file_stem()
-        .map_or_else(|| "picture".into(), |s| s.to_string_lossy().into_owned());
-    PathBuf::from(format!("{stem}.png"))
 }
 
 /// The option that raises the limit an error went past, to end its line with.

@@ -218,14 +218,13 @@ pub fn decision_name(d: Decision) -> &'static str {
 }
 
 /// The one-line summary of a run.
-pub fn summary_line(r: &RunSummary, from: Option<Size>, to: Size) -> String {
+pub fn summary_line(r: &RunSummary, from: Option<Size>, to: Size, linear: bool) -> String {
     let secs = r.elapsed.as_secs_f64();
     let n = r.frames.max(1) as f64;
-    let pct = |k: u64| 100.0 * k as f64 / n;
     let t = &r.stage_ms;
     format!(
-        "vizretarget: {} frame{}{} in {:.2} s ({:.1} fps); reused {:.0}%, updated {:.0}%, \
-         rebuilt {:.0}%; per frame: vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms{}",
+        "vizretarget: {} frame{}{} in {:.2} s ({:.1} fps); {}; per frame: vsm {:.1} ms, \
+         mesh {:.1} ms, solve {:.1} ms, render {:.1} ms{}",
         r.frames,
         if r.frames == 1 { "" } else { "s" },
         from.map_or_else(|| format!(" -> {to}"), |f| format!(", {f} -> {to},")),
@@ -235,15 +234,37 @@ pub fn summary_line(r: &RunSummary, from: Option<Size>, to: Size) -> String {
         } else {
             0.0
         },
-        pct(r.reused),
-        pct(r.updated),
-        pct(r.rebuilt),
+        kept(r, linear),
         t.vsm_ms / n,
         t.mesh_ms / n,
         t.solve_ms / n,
         t.render_ms / n,
         if r.cancelled { " (interrupted)" } else { "" },
     )
+}
+
+/// What was kept from frame to frame, in the words of the mode in use. Under one linear map
+/// per axis (`--regions affine`, the default) there is no mesh worth keeping: a frame whose
+/// pixels did not change keeps the last map, any other is resampled afresh. With a mesh,
+/// the reuse policy's three decisions.
+fn kept(r: &RunSummary, linear: bool) -> String {
+    let n = r.frames.max(1) as f64;
+    let pct = |k: u64| 100.0 * k as f64 / n;
+    if linear {
+        format!(
+            "one linear map per axis, no mesh kept: {:.0}% of frames unchanged, {:.0}% \
+             resampled afresh",
+            pct(r.reused),
+            pct(r.updated + r.rebuilt)
+        )
+    } else {
+        format!(
+            "mesh reused {:.0}%, updated {:.0}%, rebuilt {:.0}%",
+            pct(r.reused),
+            pct(r.updated),
+            pct(r.rebuilt)
+        )
+    }
 }
 
 fn json_number(x: f64) -> String {
@@ -275,6 +296,29 @@ fn json_string(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_summary_says_what_reuse_means_in_the_mode_in_use() {
+        let r = RunSummary {
+            frames: 4,
+            reused: 1,
+            updated: 1,
+            rebuilt: 2,
+            ..RunSummary::default()
+        };
+        let to = Size::new(40, 30).unwrap();
+        let linear = summary_line(&r, None, to, true);
+        assert!(
+            linear.contains("no mesh kept: 25% of frames unchanged, 75% resampled afresh"),
+            "{linear}"
+        );
+        assert!(!linear.contains("rebuilt"), "{linear}");
+        let mesh = summary_line(&r, None, to, false);
+        assert!(
+            mesh.contains("mesh reused 25%, updated 25%, rebuilt 50%"),
+            "{mesh}"
+        );
+    }
 
     #[test]
     fn json_strings_are_escaped() {

@@ -1,4 +1,4 @@
-//! One picture in, one picture out: the still job.
+//! One picture in, one picture out: the still job, by the mesh or by another `--method`.
 
 use super::args::MethodArg;
 use super::{library_error, usage, Cli};
@@ -6,12 +6,20 @@ use anyhow::{bail, Context, Result};
 use std::io::{IsTerminal, Write};
 use std::path::Path;
 use vizretarget::io::{
-    encode_still, is_std, probe_still, read_still_with, write_still, OutputFormat,
+    encode_still, is_std, probe_still, read_still_with, write_still, OutputFormat, PictureFile,
 };
-use vizretarget::{debug, retarget, Image, Options, Retargeted, Size};
+use vizretarget::{debug, retarget, retarget_with, Image, Method, Options, Retargeted, Size};
 
-/// Runs the still-image job: one picture in, one out (`-`: stdout).
-pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Result<()> {
+/// Runs the still-image job: one picture in, one out (`-`: stdout). `picture` is the one
+/// stdin held, when `input` is `-`.
+pub fn run(
+    cli: &Cli,
+    input: &Path,
+    picture: Option<&PictureFile>,
+    output: &Path,
+    format: OutputFormat,
+) -> Result<()> {
+    let input = picture.map_or(input, |p| p.name());
     // Fail before the work, not after it: the output's folder must exist.
     let out_dir = match output.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -47,12 +55,18 @@ pub fn run(cli: &Cli, input: &Path, output: &Path, format: OutputFormat) -> Resu
         usage!("no target size: give --size WxH, or --width N and/or --height N");
     }
     // The header first: the job's memory is checked before the picture is decoded.
-    let from = probe_still(input, &limits)?;
+    let from = match picture {
+        Some(p) => p.probe(&limits)?,
+        None => probe_still(input, &limits)?,
+    };
     let target = cli.target().resolve(from)?;
     limits.check_still(input, from, target)?;
-    let image = read_still_with(input, &limits)?;
+    let image = match picture {
+        Some(p) => p.decode(&limits)?,
+        None => read_still_with(input, &limits)?,
+    };
     if cli.method != MethodArg::Mesh {
-        return super::compare::still_with(cli, input, output, format, &image, target, &options);
+        return still_with(cli, input, output, format, &image, target, &options);
     }
     let out = retarget(&image, target, &options)?;
     write_output(&out.image, output, format)?;
@@ -84,6 +98,52 @@ pub fn write_output(image: &Image, output: &Path, format: OutputFormat) -> Resul
         }
         _ => Ok(()),
     }
+}
+
+/// The still job with `--method` other than mesh: resize, write, and the debug pictures and
+/// stats line that the method has.
+fn still_with(
+    cli: &Cli,
+    input: &Path,
+    output: &Path,
+    format: OutputFormat,
+    image: &Image,
+    target: Size,
+    options: &Options,
+) -> Result<()> {
+    let method = Method::from(cli.method);
+    debug_assert_ne!(cli.method, MethodArg::Mesh);
+    let out = retarget_with(method, image, target, options).map_err(library_error)?;
+    write_output(&out.image, output, format)?;
+    if let Some(dir) = &cli.debug_dir {
+        debug::write_method(dir, image, &out).with_context(|| {
+            format!(
+                "--debug-dir: cannot write the pictures into {}",
+                dir.display()
+            )
+        })?;
+    }
+    if cli.stats {
+        let s = &out.stats;
+        let t = &s.times;
+        let mesh = match (s.vertices, s.triangles, s.dof) {
+            (Some(v), Some(t), Some(d)) => format!("{v} vertices, {t} triangles, DOF {d}; "),
+            _ => String::new(),
+        };
+        eprintln!(
+            "{}: {} -> {} by {method}: {mesh}vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, \
+             render {:.1} ms, total {:.1} ms",
+            input.display(),
+            image.size(),
+            out.image.size(),
+            t.vsm_ms,
+            t.mesh_ms,
+            t.solve_ms,
+            t.render_ms,
+            t.total_ms(),
+        );
+    }
+    Ok(())
 }
 
 fn print_stats(input: &Path, from: Size, out: &Retargeted) {

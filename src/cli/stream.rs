@@ -9,18 +9,25 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 use vizretarget::io::MarkedSource;
 use vizretarget::io::{
-    is_std, open_input_with, open_sink, FrameRate, Input, InputFormat, InputKind, SinkFormat,
-    SinkOptions, STDIN_NAME,
+    is_std, open_input_with, open_peeked, open_sink, FrameRate, Input, InputFormat, InputKind,
+    Peeked, SinkFormat, SinkOptions, STDIN_NAME,
 };
 use vizretarget::stream::{DetachedSource, Progress, VecSource};
-use vizretarget::{Limits, Options, Pipeline, RunSummary, Size};
+use vizretarget::{Limits, Options, Pipeline, Regions, RunSummary, Size};
 
-pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> Result<Outcome> {
+/// Runs the stream job; `peeked` is what was read of stdin to tell it was no single picture.
+pub fn run(
+    cli: &Cli,
+    input_path: &Path,
+    peeked: Option<Peeked>,
+    output: &Path,
+    format: SinkFormat,
+) -> Result<Outcome> {
     let args = &cli.stream;
     let (limits, options) = check_request(cli, input_path, output, format)?;
     // Until the source is detached below, a signal ends the program at once: nothing has
     // been written yet, and opening stdin may wait on a writer that sends nothing.
-    let mut input = open_frames(cli, input_path, &limits)?;
+    let mut input = open_frames(cli, input_path, peeked, &limits)?;
     // From here a first signal stops the reading (even a read that is blocked) and the frames
     // already read are finished and written.
     let cancel = interrupt::stop_gracefully();
@@ -65,7 +72,8 @@ pub fn run(cli: &Cli, input_path: &Path, output: &Path, format: SinkFormat) -> R
         return Ok(Outcome::Interrupted);
     };
     if !args.quiet && !summary.output_closed {
-        eprintln!("{}", summary_line(&summary, from, target));
+        let linear = options.effective_regions() == Regions::Affine;
+        eprintln!("{}", summary_line(&summary, from, target, linear));
     }
     Ok(if interrupted {
         Outcome::Interrupted
@@ -115,9 +123,14 @@ fn check_request(
     Ok((limits, options))
 }
 
-/// Opens the input as `--input-format` and `--input-size` say, with the vector marks of each
-/// frame when `--marks` gives them.
-fn open_frames(cli: &Cli, input_path: &Path, limits: &Limits) -> Result<Input> {
+/// Opens the input as `--input-format` and `--input-size` say (or stdin from where `peeked`
+/// left it), with the vector marks of each frame when `--marks` gives them.
+fn open_frames(
+    cli: &Cli,
+    input_path: &Path,
+    peeked: Option<Peeked>,
+    limits: &Limits,
+) -> Result<Input> {
     let args = &cli.stream;
     let input_size = args
         .input_size
@@ -131,7 +144,11 @@ fn open_frames(cli: &Cli, input_path: &Path, limits: &Limits) -> Result<Input> {
         InputArg::Y4m => InputFormat::Y4m,
         InputArg::Png => InputFormat::PngStream,
     };
-    let mut input = open_input_with(input_path, input_format, input_size, limits)
+    let opened = match peeked {
+        Some(p) => open_peeked(p, limits),
+        None => open_input_with(input_path, input_format, input_size, limits),
+    };
+    let mut input = opened
         .map_err(|e| empty_stdin_hint(e, input_path))
         .map_err(library_error)?;
     if let Some(marks) = super::marks::frame_marks(&cli.vector, input_path, &input, args.quiet)? {

@@ -90,8 +90,14 @@ fn check_request(args: &WatchArgs) -> Result<Options> {
         .with_fill(args.fill)
         .with_layout(args.layout);
     options.validate().map_err(library_error)?;
-    if !args.dir.is_dir() {
-        bail!("{}: not a folder: watch needs a folder", args.dir.display());
+    match std::fs::metadata(&args.dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => bail!("{}: not a folder: watch needs a folder", args.dir.display()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => bail!(
+            "{}: does not exist: watch needs an existing folder",
+            args.dir.display()
+        ),
+        Err(e) => bail!("{}: cannot read: {e}", args.dir.display()),
     }
     if same_folder(&args.dir, &args.output) {
         usage!(

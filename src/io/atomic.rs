@@ -1,6 +1,10 @@
 //! Output files that appear whole or not at all: written to a hidden temporary file beside the
 //! target, renamed over it on [`AtomicFile::commit`], removed if dropped uncommitted.
 //!
+//! A path that is neither a file nor a folder, such as `/dev/null` or a named pipe, is written
+//! in place: there is nothing to replace atomically, and a rename onto it would replace the
+//! device itself.
+//!
 //! Every temporary file is also listed in a process-wide registry so that a program that must
 //! exit at once (a second signal) can still remove them ([`remove_temporary_files`]).
 
@@ -57,16 +61,35 @@ pub(crate) fn temporary_path(path: &Path) -> PathBuf {
     dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()))
 }
 
+/// Whether `path` exists and is neither a regular file nor a folder (after symbolic links): a
+/// device such as `/dev/null`, a named pipe, a socket.
+pub fn is_device(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// A file being written; it replaces `path` only when committed.
 pub struct AtomicFile {
     path: PathBuf,
-    tmp: PathBuf,
+    /// `None` for a device, written in place.
+    tmp: Option<PathBuf>,
     file: Option<BufWriter<File>>,
 }
 
 impl AtomicFile {
-    /// Starts writing `path` (through a temporary file in the same folder).
+    /// Starts writing `path` (through a temporary file in the same folder; a device such as
+    /// `/dev/null` in place, see [`is_device`]).
     pub fn create(path: &Path) -> Result<AtomicFile, Error> {
+        if is_device(path) {
+            let file = File::options()
+                .write(true)
+                .open(path)
+                .map_err(|e| Error::io(path, e))?;
+            return Ok(AtomicFile {
+                path: path.to_path_buf(),
+                tmp: None,
+                file: Some(BufWriter::with_capacity(1 << 20, file)),
+            });
+        }
         let tmp = temporary_path(path);
         let file = File::options()
             .write(true)
@@ -76,7 +99,7 @@ impl AtomicFile {
         register(&tmp);
         Ok(AtomicFile {
             path: path.to_path_buf(),
-            tmp,
+            tmp: Some(tmp),
             file: Some(BufWriter::with_capacity(1 << 20, file)),
         })
     }
@@ -96,12 +119,17 @@ impl AtomicFile {
         };
         let result = (|| {
             let f = w.into_inner().map_err(|e| e.into_error())?;
+            let Some(tmp) = &self.tmp else {
+                return Ok(()); // a device: written in place
+            };
             f.sync_all()?;
-            std::fs::rename(&self.tmp, &self.path)
+            std::fs::rename(tmp, &self.path)
         })();
         match result {
             Ok(()) => {
-                unregister(&self.tmp);
+                if let Some(tmp) = &self.tmp {
+                    unregister(tmp);
+                }
                 Ok(())
             }
             Err(e) => Err(Error::io(&self.path, e)), // Drop removes the temporary file.
@@ -132,11 +160,14 @@ impl Write for AtomicFile {
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        if self.tmp.exists() {
+        let Some(tmp) = &self.tmp else {
+            return;
+        };
+        if tmp.exists() {
             self.file = None;
-            let _ = std::fs::remove_file(&self.tmp);
+            let _ = std::fs::remove_file(tmp);
         }
-        unregister(&self.tmp);
+        unregister(tmp);
     }
 }
 
@@ -181,6 +212,21 @@ mod tests {
         drop(f);
         assert_eq!(std::fs::read(&path).unwrap(), b"old");
         assert_eq!(names(dir.path()), ["out.bin"]);
+    }
+
+    #[test]
+    fn a_device_is_written_in_place() {
+        let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+        let null = Path::new("/dev/null");
+        if !null.exists() {
+            return; // not a Unix system
+        }
+        assert!(is_device(null));
+        let mut f = AtomicFile::create(null).unwrap();
+        f.write_all(b"discarded").unwrap();
+        assert_eq!(f.tmp, None, "no temporary file beside a device");
+        f.commit().unwrap();
+        assert!(is_device(null), "still the device");
     }
 
     #[test]

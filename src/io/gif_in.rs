@@ -109,22 +109,44 @@ impl GifSource<std::fs::File> {
     pub fn open_with(path: &Path, limits: &Limits) -> Result<Self, Error> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let mut source = GifSource::with_limits(file, path, limits)?;
-        source.total = match count_frames(path, limits.max_frames) {
-            Some((n, more)) => {
-                limits.check_frame_count(path, n, more)?;
-                Some(n)
-            }
-            None => None,
-        };
+        let counted = std::fs::File::open(path)
+            .ok()
+            .and_then(|f| count_frames(f, limits.max_frames));
+        source.total = checked_count(counted, path, limits)?;
         Ok(source)
+    }
+}
+
+impl GifSource<std::io::Cursor<Vec<u8>>> {
+    /// A GIF file held in memory (read from a pipe), its frames counted first as
+    /// [`GifSource::open_with`] counts them.
+    pub fn from_bytes(bytes: Vec<u8>, name: &Path, limits: &Limits) -> Result<Self, Error> {
+        let counted = count_frames(&bytes[..], limits.max_frames);
+        let mut source = GifSource::with_limits(std::io::Cursor::new(bytes), name, limits)?;
+        source.total = checked_count(counted, name, limits)?;
+        Ok(source)
+    }
+}
+
+/// The frame count, checked against `limits`.
+fn checked_count(
+    counted: Option<(u64, bool)>,
+    name: &Path,
+    limits: &Limits,
+) -> Result<Option<u64>, Error> {
+    match counted {
+        Some((n, more)) => {
+            limits.check_frame_count(name, n, more)?;
+            Ok(Some(n))
+        }
+        None => Ok(None),
     }
 }
 
 /// Counts frames without decoding them, stopping past `max`: the count and whether more
 /// follow. `None` if the file cannot be walked to its end (the decoding pass then reports what
 /// is wrong, at the frame where it is).
-fn count_frames(path: &Path, max: Option<u64>) -> Option<(u64, bool)> {
-    let file = std::fs::File::open(path).ok()?;
+pub(crate) fn count_frames<R: Read>(file: R, max: Option<u64>) -> Option<(u64, bool)> {
     let mut options = DecodeOptions::new();
     options.skip_frame_decoding(true);
     options.allow_unknown_blocks(true);

@@ -8,7 +8,8 @@
 //!   ([`GifSink`]), a folder of PNGs ([`PngSeqSink`]), raw frames ([`RawSink`]), YUV4MPEG2
 //!   ([`Y4mSink`]), concatenated PNGs ([`PngStreamSink`]).
 //! - [`open_input`], [`resolve_output`] and [`open_sink`] pick among them from a path and a
-//!   format, as the command line does.
+//!   format, as the command line does; [`peek_stdin`] tells one picture on stdin from a
+//!   stream.
 //!
 //! Inputs are recognised by their first bytes, never by their names. Files are written
 //! through a temporary file and a rename, so a reader never sees half a file; a run that
@@ -23,6 +24,7 @@ mod marks;
 mod names;
 mod natural;
 mod open;
+mod peek;
 mod pipe;
 mod png_seq;
 mod png_stream;
@@ -34,7 +36,7 @@ mod still;
 mod watch;
 mod y4m;
 
-pub use atomic::{remove_temporary_files, AtomicFile};
+pub use atomic::{is_device, remove_temporary_files, AtomicFile};
 pub use dir::{list_images, DirSource};
 pub use gif_in::GifSource;
 pub use gif_out::{GifOptions, GifSink};
@@ -44,9 +46,10 @@ pub use natural::natural_cmp;
 #[cfg(feature = "watch")]
 pub use open::open_watch;
 pub use open::{
-    is_std, open_input, open_input_with, open_sink, resolve_output, Destination, Input,
-    InputFormat, InputKind, OutputChoice, SinkFormat, SinkOptions,
+    is_std, open_input, open_input_with, open_peeked, open_sink, resolve_output, Destination,
+    Input, InputFormat, InputKind, OutputChoice, SinkFormat, SinkOptions,
 };
+pub use peek::{peek_input, peek_stdin, Peeked, PictureFile};
 pub use pipe::{stdin_stream, stdout_stream, STDIN_NAME, STDOUT_NAME};
 pub use png_seq::{output_name, PngSeqSink};
 pub use png_stream::{PngStreamSink, PngStreamSource};

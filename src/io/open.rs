@@ -1,11 +1,12 @@
 //! The front door: an input path and format to a [`FrameSource`], an output path and format
 //! to a [`FrameSink`]. The command line calls only these.
 
-use super::atomic::AtomicFile;
+use super::atomic::{is_device, AtomicFile};
 use super::dir::DirSource;
 use super::gif_in::GifSource;
 use super::gif_out::{GifOptions, GifSink};
 use super::names::FrameNames;
+use super::peek::{peek_stdin, Peeked};
 use super::pipe::{read_full, stdin_stream, stdout_stream, STDIN_NAME, STDOUT_NAME};
 use super::png_seq::PngSeqSink;
 use super::png_stream::{PngStreamSink, PngStreamSource};
@@ -24,8 +25,9 @@ use std::path::Path;
 /// How to read an input.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum InputFormat {
-    /// By content: a folder, a GIF, PNG, JPEG, WebP or YUV4MPEG2 file; on stdin a PNG stream
-    /// or YUV4MPEG2.
+    /// By content: a folder, a GIF, PNG, JPEG, WebP or YUV4MPEG2 file; on stdin one picture
+    /// (a PNG followed by the end of the input, a JPEG, WebP or GIF file), a PNG stream or
+    /// YUV4MPEG2 ([`super::peek_stdin`]).
     #[default]
     Auto,
     /// Raw frames, 4 bytes a pixel; needs the frame size.
@@ -64,6 +66,19 @@ pub struct Input {
 }
 
 impl Input {
+    /// One picture as a source of one frame.
+    pub(crate) fn picture(image: Image) -> Input {
+        let size = image.size();
+        let one = OneFrame(Some(Frame::new(image, 0)));
+        Input::new(Box::new(one), InputKind::Still, Some(size))
+    }
+
+    /// A GIF's frames.
+    pub(crate) fn gif<R: Read + Send + 'static>(gif: GifSource<R>) -> Input {
+        let size = gif.size();
+        Input::new(Box::new(gif), InputKind::Gif, Some(size))
+    }
+
     fn new(source: Box<dyn FrameSource>, kind: InputKind, size: Option<Size>) -> Input {
         Input {
             source,
@@ -156,6 +171,9 @@ pub fn open_input_with(
     size: Option<Size>,
     limits: &Limits,
 ) -> Result<Input, Error> {
+    if is_std(path) && format == InputFormat::Auto {
+        return open_peeked(peek_stdin(limits)?, limits);
+    }
     if is_std(path) {
         let stdin = stdin_stream();
         return open_stream(stdin, Path::new(STDIN_NAME), format, size, true, limits);
@@ -177,19 +195,10 @@ pub fn open_input_with(
     if format == InputFormat::Auto {
         let head = head_of(path).map_err(|e| Error::io(path, e))?;
         match sniff(&head) {
-            Some(Magic::Gif) => {
-                let gif = GifSource::open_with(path, limits)?;
-                let size = gif.size();
-                return Ok(Input::new(Box::new(gif), InputKind::Gif, Some(size)));
-            }
+            Some(Magic::Gif) => return Ok(Input::gif(GifSource::open_with(path, limits)?)),
             Some(Magic::Y4m) => {}
             // PNG, JPEG, WebP, and anything else: the still reader names what is wrong.
-            _ => {
-                let image: Image = read_still_with(path, limits)?;
-                let size = image.size();
-                let one = OneFrame(Some(Frame::new(image, 0)));
-                return Ok(Input::new(Box::new(one), InputKind::Still, Some(size)));
-            }
+            _ => return Ok(Input::picture(read_still_with(path, limits)?)),
         }
     }
     if let (InputFormat::Rgba | InputFormat::Rgb24, Some(size)) = (format, size) {
@@ -209,6 +218,30 @@ pub fn open_input_with(
     }
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     open_stream(Box::new(file), path, format, size, false, limits)
+}
+
+/// Opens what [`super::peek_stdin`] found on stdin: one picture (a GIF's frames), or a
+/// stream recognised by content.
+pub fn open_peeked(peeked: Peeked, limits: &Limits) -> Result<Input, Error> {
+    match peeked {
+        Peeked::Picture(p) if p.is_gif() => {
+            let name = p.name().to_path_buf();
+            Ok(Input::gif(GifSource::from_bytes(
+                p.into_bytes(),
+                &name,
+                limits,
+            )?))
+        }
+        Peeked::Picture(p) => Ok(Input::picture(p.decode(limits)?)),
+        Peeked::Stream(r) => open_stream(
+            r,
+            Path::new(STDIN_NAME),
+            InputFormat::Auto,
+            None,
+            true,
+            limits,
+        ),
+    }
 }
 
 fn raw_format(format: InputFormat) -> RawFormat {
@@ -249,15 +282,13 @@ fn open_stream(
                 Some(Magic::Png) => InputFormat::PngStream,
                 Some(Magic::Y4m) => InputFormat::Y4m,
                 Some(Magic::Gif) => {
-                    let gif = GifSource::with_limits(reader, name, limits)?;
-                    let size = gif.size();
-                    return Ok(Input::new(Box::new(gif), InputKind::Gif, Some(size)));
+                    return Ok(Input::gif(GifSource::with_limits(reader, name, limits)?));
                 }
                 _ if is_stdin => {
                     return Err(Error::decode(
                         name,
-                        "not a PNG stream or YUV4MPEG2: raw frames need --input-format \
-                         rgba|rgb24 and --input-size WxH",
+                        "not a picture (PNG, JPEG, WebP, GIF), a PNG stream or YUV4MPEG2: raw \
+                         frames need --input-format rgba|rgb24 and --input-size WxH",
                     ))
                 }
                 _ => {
@@ -294,9 +325,10 @@ fn open_stream(
 /// Output formats a user can ask for.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub enum OutputChoice {
-    /// By the path: `-` is YUV4MPEG2 on stdout, a folder (existing, or a path ending in `/`)
-    /// a PNG sequence, else the extension: `.gif`, `.png`, `.jpg`/`.jpeg`, `.webp`, `.y4m`.
-    /// (The command line writes one picture to stdout as PNG: it knows the input.)
+    /// By the path: `-` is YUV4MPEG2 on stdout, and so is a device such as `/dev/null`
+    /// ([`super::is_device`]); a folder (existing, or a path ending in `/`) a PNG sequence,
+    /// else the extension: `.gif`, `.png`, `.jpg`/`.jpeg`, `.webp`, `.y4m`. (The command
+    /// line writes one picture to stdout or a device as PNG: it knows the input.)
     #[default]
     Auto,
     Gif,
@@ -328,10 +360,11 @@ pub enum SinkFormat {
     Y4m,
 }
 
-/// Decides what `-o path` with `--output-format choice` writes, before any work.
+/// Decides what `-o path` with `--output-format choice` writes, before any work. A device
+/// (`/dev/null`) takes what stdout takes.
 pub fn resolve_output(path: &Path, choice: OutputChoice) -> Result<Destination, Error> {
     use Destination::{Still, Stream};
-    if is_std(path) {
+    if is_std(path) || is_device(path) {
         return match choice {
             OutputChoice::Auto | OutputChoice::Y4m => Ok(Stream(SinkFormat::Y4m)),
             OutputChoice::Png => Ok(Stream(SinkFormat::PngStream)),

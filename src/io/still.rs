@@ -55,14 +55,24 @@ fn gif_first_frame<R: Read + Send>(
 pub fn probe_still(path: &Path, limits: &Limits) -> Result<Size, Error> {
     match open_still(path, limits)? {
         Opened::Gif(reader) => GifSource::with_limits(reader, path, limits).map(|g| g.size()),
-        Opened::Bytes(bytes) if sniff(&bytes) == Some(Magic::Gif) => {
-            GifSource::with_limits(&bytes[..], path, limits).map(|g| g.size())
-        }
         Opened::File(reader) => header_of(reader, path, limits).map(|(_, size, _)| size),
-        Opened::Bytes(bytes) => {
-            header_of(Cursor::new(&bytes[..]), path, limits).map(|(_, size, _)| size)
-        }
+        Opened::Bytes(bytes) => probe_bytes(&bytes, path, limits),
     }
+}
+
+/// [`probe_still`] of a picture held in memory; `path` only names it in errors.
+pub(crate) fn probe_bytes(bytes: &[u8], path: &Path, limits: &Limits) -> Result<Size, Error> {
+    if sniff(bytes) == Some(Magic::Gif) {
+        return GifSource::with_limits(bytes, path, limits).map(|g| g.size());
+    }
+    header_of(Cursor::new(bytes), path, limits).map(|(_, size, _)| size)
+}
+
+/// Most bytes read into memory from an input that cannot seek (a pipe, a device).
+pub(crate) fn max_piped_bytes(limits: &Limits) -> u64 {
+    limits
+        .decode_bytes()
+        .map_or(MAX_STREAMED_BYTES, |b| b.min(MAX_STREAMED_BYTES))
 }
 
 enum Opened {
@@ -88,9 +98,7 @@ fn open_still(path: &Path, limits: &Limits) -> Result<Opened, Error> {
         return Ok(Opened::File(reader));
     }
     // Pipes and devices cannot seek, and `/dev/zero` never ends: read a bounded amount.
-    let max = limits
-        .decode_bytes()
-        .map_or(MAX_STREAMED_BYTES, |b| b.min(MAX_STREAMED_BYTES));
+    let max = max_piped_bytes(limits);
     let mut bytes = Vec::new();
     file.take(max + 1)
         .read_to_end(&mut bytes)
