@@ -647,11 +647,33 @@ fn blank_margins_give_way_to_the_plot_at_one_scale() {
         widths[0] > lin[0][1] - lin[0][0] + 2,
         "{widths:?} against {lin:?}"
     );
-    // The thin margins of the chart alone give nothing: filling the target, the linear
-    // resize.
-    let fill = Options::default().with_fill(true);
+    // Without the layout the thin margins of the chart alone give nothing (a plot a few
+    // percent larger is not worth margins pressed to the edge): filling the target, the
+    // linear resize.
+    let fill = Options::default().with_fill(true).with_layout(false);
     let thin = retarget(&chart, Size::new(200, 240).unwrap(), &fill).unwrap();
     assert!(thin.image == vizretarget::resize_linear(chart.as_ref(), Size::new(200, 240).unwrap()));
+}
+
+/// The default layout: blank margins outside a plot give way first (to a quarter of the
+/// linear scale), so the plot, one linear map, grows by a tenth or more over a linear resize
+/// (its bars evenly spaced and equally wide); with the layout off, the same chart is the
+/// linear resize.
+#[test]
+fn the_layout_lets_a_plot_take_its_blank_margins() {
+    let chart = bars(false);
+    let target = Size::new(200, 240).unwrap();
+    let out = retarget(&chart, target, &Options::default()).unwrap();
+    assert_eq!(out.stats.fitted, None, "laid out, not letterboxed");
+    let linear = vizretarget::resize_linear(chart.as_ref(), target);
+    let (runs, lin) = (bar_runs(&out.image, 200), bar_runs(&linear, 200));
+    let widths = even_bars(&runs);
+    let step = |r: &[[u32; 2]]| (r[4][0] - r[0][0]) as f64 / 4.0;
+    assert!(
+        step(&runs) >= 1.1 * step(&lin) - 1.0,
+        "{runs:?} against {lin:?}"
+    );
+    assert!(widths[0] + 1 >= lin[0][1] - lin[0][0] + 1, "{widths:?}");
 }
 
 /// Dark columns of `img` in `x0..x1` between rows `y0..y1`: the first and last, if any.
@@ -662,9 +684,10 @@ fn ink_columns(img: &Image, [x0, x1]: [u32; 2], [y0, y1]: [u32; 2]) -> Option<(u
     Some((first, last))
 }
 
-/// Tick labels in a chart's left margin keep more of their width than a linear resize's
-/// half (the margin's blank columns give way), while the plot keeps one scale, at least the
-/// linear resize's: its bars evenly spaced and equally wide.
+/// Tick labels in a chart's left margin keep their width (the layout: the plot takes the
+/// room they leave), while the plot keeps one scale: its bars evenly spaced and equally
+/// wide. Without the layout they keep more of their width than a linear resize's half (the
+/// margin's blank columns give way) and the plot at least the linear resize's scale.
 #[test]
 fn labels_in_a_margin_keep_their_width_and_the_plot_one_scale() {
     let mut img = Image::filled(Size::new(600, 300).unwrap(), [255; 4]);
@@ -689,10 +712,23 @@ fn labels_in_a_margin_keep_their_width_and_the_plot_one_scale() {
         kept as f64 >= 0.65 * src as f64 && kept > squeezed + 2,
         "label {src} px wide, kept {kept}, linear {squeezed}"
     );
-    // The plot: five bars, evenly spaced and equally wide, none narrower than the linear
-    // resize's.
+    // Laid out, the labels keep their size (type at the author's size).
+    assert!(
+        kept as f64 >= 0.9 * src as f64,
+        "label {src} px wide, kept {kept}"
+    );
+    // The plot: five bars, evenly spaced and equally wide (one linear map), at least half
+    // as wide as the linear resize's (the plot takes the room the labels leave).
     let (runs, lin) = (bar_runs(&out, 270), bar_runs(&linear, 270));
     let widths = even_bars(&runs);
+    assert!(
+        2 * widths[0] >= lin[0][1] - lin[0][0] + 1,
+        "{widths:?} against {lin:?}"
+    );
+    // Without the layout, the text bands alone give way: the plot keeps at least the
+    // linear resize's scale.
+    let bands = retarget(&img, target, &Options::default().with_layout(false)).unwrap();
+    let widths = even_bars(&bar_runs(&bands.image, 270));
     assert!(
         widths[0] >= lin[0][1] - lin[0][0],
         "{widths:?} against {lin:?}"

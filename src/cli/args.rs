@@ -223,13 +223,15 @@ pub struct Cli {
     #[arg(long)]
     pub fill: bool,
 
-    /// Under --regions affine, lay a chart out again as its author would for the target
-    /// size: its plots (data areas found from axes, frames, grids, bars) take the room the
-    /// parts around them leave, and tick labels, axis titles, legends and titles keep their
-    /// size. Best on line and scatter charts; shapes inside a plot that do not float (a
-    /// waffle's squares, a gauge's arc) are squeezed with it.
+    /// Do not lay charts out again: by default (under --regions affine) a chart's plots (data
+    /// areas found from axes, frames, grids, bars) take the room the parts around them leave,
+    /// tick labels, axis titles, legends and titles keep their size, an x axis' crowded tick
+    /// labels drop every other one (first and last kept), and round marks keep their size
+    /// where no two would touch, as the chart's author re-rendering it for the smaller screen
+    /// would. With --no-layout only the text bands and blank margins give way. A picture
+    /// without axes, frames, grids or bars (a map, a node-link graph) is the same either way.
     #[arg(long)]
-    pub layout: bool,
+    pub no_layout: bool,
 
     /// Resizing method, for one picture: mesh (vizretarget's adaptive mesh, the default);
     /// linear (plain scaling); crop (scale to cover, keep the most salient window); grid (the
@@ -688,10 +690,9 @@ pub struct WatchArgs {
     #[arg(long)]
     pub fill: bool,
 
-    /// Lay each chart out again for the target: plots take the room their labels leave
-    /// (see `vizretarget --help`).
+    /// Do not lay charts out again for the target (see `vizretarget --help`).
     #[arg(long)]
-    pub layout: bool,
+    pub no_layout: bool,
 
     /// How long a snapshot must stay unchanged before it is read when its writer's close was
     /// not seen (files already there at the start; platforms without close-write events), in

@@ -44,7 +44,7 @@ pub fn run(
         .with_alpha(cli.alpha)
         .with_regions(cli.regions.into())
         .with_fill(cli.fill)
-        .with_layout(cli.layout)
+        .with_layout(!cli.no_layout)
         .with_analysis(cli.debug_dir.is_some());
     options = super::marks::apply(&cli.vector, options, &limits)?;
     if let Some(layer) = super::marks::still_layer(&cli.vector)? {

@@ -108,7 +108,7 @@ fn check_request(
             .with_alpha(cli.alpha)
             .with_regions(cli.regions.into())
             .with_fill(cli.fill)
-            .with_layout(cli.layout),
+            .with_layout(!cli.no_layout),
         &limits,
     )?;
     options.reuse = cli.stream.reuse();

@@ -88,7 +88,7 @@ fn check_request(args: &WatchArgs) -> Result<Options> {
         .with_alpha(args.alpha)
         .with_regions(args.regions.into())
         .with_fill(args.fill)
-        .with_layout(args.layout);
+        .with_layout(!args.no_layout);
     options.validate().map_err(library_error)?;
     match std::fs::metadata(&args.dir) {
         Ok(m) if m.is_dir() => {}

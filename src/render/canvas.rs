@@ -19,6 +19,11 @@ const LEAST_GAP_SHARE: f64 = 0.25;
 /// the larger plot won).
 const LEAST_GROWTH: f64 = 0.1;
 
+/// Least width (height) of the parts around the plots, in pixels, for them to be kept at
+/// their size: about the height of the smallest type read on a screen; less is a frame's or
+/// an axis' lines, which hold no type.
+const LEAST_PARTS_PX: f64 = 8.0;
+
 /// Least scale of a plot, as a share of the linear resize's, when the parts around it keep
 /// their size ([`AxisMap::around_plots`]): half. Below it the data would be drawn smaller
 /// than the type that labels it gains; from there the type shrinks with the plot.
@@ -232,12 +237,23 @@ impl AxisMap {
         let parts_spans: Vec<[u32; 2]> = (outside.iter())
             .flat_map(|&o| complement_within(o, &margins))
             .collect();
-        let (margin, parts) = (spanned(&margins), nf - plot - spanned(&margins));
+        let (mut margins, mut parts_spans) = (margins, parts_spans);
+        if spanned(&parts_spans) < LEAST_PARTS_PX {
+            // A frame's or an axis' lines hold no type to keep: they are ground.
+            margins.append(&mut parts_spans);
+            margins.sort_unstable();
+        }
+        let (margin, parts) = (spanned(&margins), spanned(&parts_spans));
         let least = LEAST_PLOT_SHARE * linear;
         let plot_at = |part: f64, gap: f64| (mf - parts * part - margin * gap) / plot;
         // Blank space gives way first, down to its least share, as a chart's author lets
-        // the plot take the room its paddings leave.
-        let gap = LEAST_GAP_SHARE * linear;
+        // the plot take the room its paddings leave; but a plot a few percent larger is
+        // hardly seen, while its margins pressed to the edge are.
+        let mut gap = LEAST_GAP_SHARE * linear;
+        let grown = plot_at(1.0, gap);
+        if grown > linear && grown < linear * (1.0 + LEAST_GROWTH) {
+            gap = linear;
+        }
         let mut scales = [1.0, gap, plot_at(1.0, gap)];
         if scales[2] < least {
             let gap = scales[1];
@@ -259,7 +275,8 @@ impl AxisMap {
             };
         }
         let [part, gap, scale] = scales;
-        if (scale - linear).abs() < 1e-9 && (part - linear).abs() < 1e-9 {
+        let at_linear = |k: f64, len: f64| len <= 0.0 || (k - linear).abs() < 1e-9;
+        if at_linear(scale, plot) && at_linear(part, parts) && at_linear(gap, margin) {
             return AxisMap::linear(n, m);
         }
         let mut spans: Vec<([u32; 2], f64, bool)> = (plots.iter().map(|&p| (p, scale, false)))

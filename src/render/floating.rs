@@ -260,6 +260,9 @@ pub(crate) fn area_text_layout(
     (placements, refused)
 }
 
+/// How far outside a plot's edge an axis' tick labels stand, in their line heights (the
+/// tick's length and the label's padding).
+const TICK_REACH_LINES: f64 = 2.0;
 /// Least labels in a row (column) that make an axis' ticks, which may be thinned.
 const LEAST_TICKS: usize = 3;
 /// Most deviation of tick labels' spacing from its mean, as a share of it: ticks are evenly
@@ -400,14 +403,21 @@ impl<'a> TextLayout<'a> {
         clash(i, bi, boxes) || *covered.get_or_insert_with(|| self.covers(i, bi, floating))
     }
 
-    /// Rows (columns) of at least [`LEAST_TICKS`] evenly spaced labels of one size, an axis'
-    /// tick labels, whose neighbours would collide at their floating scale drop every other
-    /// label, the first and the last kept, and again while they still collide, as a chart's
-    /// axis locator does for a smaller axis: type keeps its size, and what is left stays
-    /// under its tick. A legend's entries, set unevenly, are never thinned.
+    /// Rows of at least [`LEAST_TICKS`] evenly spaced labels of one size along a plot's edge,
+    /// an x axis' tick labels, whose neighbours would collide at their floating scale drop
+    /// every other label, the first and the last kept, and again while they still collide,
+    /// as a chart's axis locator does for a narrower axis: type keeps its size, and what is
+    /// left stays under its tick. A legend's entries and a column of bar names are never
+    /// thinned.
     fn thin(&self, movers: &[Mover], room: &mut Room) {
         for mover in movers.iter().filter(|m| m.members.len() >= LEAST_TICKS) {
             let row = mover.moves.iter().all(|d| d.x == 0.0);
+            // Only an x axis' labels: a column of labels beside a plot names its bars or
+            // rows one by one (judged blind, a bar chart with every other name dropped came
+            // last), and a legend's row stands apart from the plots.
+            if !row || !self.beside_a_plot(&mover.members, row) {
+                continue;
+            }
             let centre = |i: usize| {
                 let t = &self.text[i];
                 match row {
@@ -463,6 +473,30 @@ impl<'a> TextLayout<'a> {
                 kept = next;
             }
         }
+    }
+
+    /// Whether the labels `members` (a row when `row`, else a column) stand along a plot's
+    /// edge as an axis' tick labels do: across the row, within [`TICK_REACH_LINES`] line
+    /// heights outside one of the plots' spans, and along it inside one.
+    fn beside_a_plot(&self, members: &[usize], row: bool) -> bool {
+        let b = &self.st.bands;
+        let (across, along) = match row {
+            true => (&b.plots_y, &b.plots_x),
+            false => (&b.plots_x, &b.plots_y),
+        };
+        members.iter().all(|&i| {
+            let t = &self.text[i];
+            let ([a0, a1], [l0, l1]) = match row {
+                true => ([t.y0, t.y1], [t.x0, t.x1]),
+                false => ([t.x0, t.x1], [t.y0, t.y1]),
+            };
+            let reach = (TICK_REACH_LINES * t.line_height as f64) as u32;
+            let near = across
+                .iter()
+                .any(|p| (a0 >= p[1] && a0 <= p[1] + reach) || (a1 <= p[0] && a1 + reach >= p[0]));
+            let inside = along.iter().any(|p| l0 + 1 >= p[0] && l1 <= p[1] + 1);
+            near && inside
+        })
     }
 
     /// Blocks in the way step aside, before any shrinks, to the nearest place that is clear:

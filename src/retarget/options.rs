@@ -38,9 +38,12 @@ pub struct Options {
     /// Under [`Regions::Affine`], lay a chart out again as its author would for the target:
     /// the data areas found from axes, frames, grids and bars take the room that the parts
     /// around them (labels, legends, titles, gutters) leave, those parts keep their size,
-    /// and text over the plots floats at its size. Off by default: judged blind
-    /// (2026-12-07) it won on line and scatter charts and lost where a plot holds shapes
-    /// that no longer float (waffles, gauges, an UpSet matrix, labelled heat-map cells).
+    /// text over the plots floats at its size, an x axis' crowded tick labels are thinned,
+    /// and round marks keep their size where no two would touch. On by default: judged
+    /// blind (2026-12-07, two judges a set) above the previous default in 48 of 84 rankings
+    /// of generated charts (15 below) and, on the real stills it changes, in 16 of 22 decided
+    /// rankings; it still loses where a plot holds shapes that do not float (an UpSet
+    /// matrix's dots). A picture without data areas is unchanged by it.
     pub layout: bool,
     /// Vector marks for every frame that brings none of its own ([`crate::Frame::marks`]): bound to
     /// the mesh and redrawn over the warped raster (§5.3, see [`crate::vector`]).
@@ -61,7 +64,7 @@ impl Default for Options {
             structure: true,
             regions: Regions::default(),
             fill: false,
-            layout: false,
+            layout: true,
             marks: None,
             vector: VectorOptions::default(),
             enhance: Enhancement::default(),

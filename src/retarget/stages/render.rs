@@ -380,7 +380,12 @@ fn floating_marks(
     };
     // Under the layout ([`Options::layout`]) the marks keep the author's size where room
     // allows; otherwise each takes its map's geometric mean scale (its share of the area).
-    let mark_scale = author_size.then(|| marks_scale(&in_areas, area_maps));
+    // On a picture without plots (a node-link graph, a map) marks found by colour are some
+    // of its shapes, not all: grown alone they would misstate the rest (judged blind).
+    let charted = mesh
+        .structure()
+        .is_some_and(|s| !s.bands.plots_x.is_empty() || !s.bands.plots_y.is_empty());
+    let mark_scale = (author_size && charted).then(|| marks_scale(&in_areas, area_maps));
     Floating::new(src, vsm, &marks, warp.target(), |i, mk| {
         if i < n_loose {
             return locator
@@ -410,6 +415,10 @@ fn floating_marks(
         ))
     })
 }
+
+/// Ground kept between two marks that stood apart, output pixels (at most what they had):
+/// their antialiased rims would otherwise meet and read as one blob.
+const MARK_GAP_PX: f64 = 2.0;
 
 /// Most marks whose pairs [`marks_scale`] compares; above it they take the largest of
 /// their maps' geometric-mean scales (a dense scatter leaves no room to grow anyway).
@@ -442,8 +451,11 @@ fn marks_scale(in_areas: &[(Mark, InArea)], maps: AreaMaps<'_>) -> f64 {
     for (i, a) in placed.iter().enumerate() {
         for b in &placed[i + 1..] {
             let reach = a.2 + b.2;
-            if reach > 0.0 && a.0.distance(b.0) > reach {
-                scale = scale.min(a.1.distance(b.1) / reach);
+            let gap = a.0.distance(b.0) - reach;
+            if reach > 0.0 && gap > 0.0 {
+                // Apart by what they were, up to a rim's width or two.
+                let keep = gap.min(MARK_GAP_PX);
+                scale = scale.min((a.1.distance(b.1) - keep) / reach);
             }
         }
     }
