@@ -458,7 +458,7 @@ impl<'a> TextLayout<'a> {
                     .map(|(_, &i)| i)
                     .collect();
                 // An even count keeps its last label and the one before it: drop that one.
-                let next = match next.len() >= 2 && kept.len() % 2 == 0 {
+                let next = match next.len() >= 2 && kept.len().is_multiple_of(2) {
                     true => {
                         let mut n = next;
                         let before_last = n.len() - 2;

@@ -1,0 +1,203 @@
+//! The default layout (issue 37's first step): a chart laid out again for the target as its
+//! author would, from pixels alone. Type keeps its size, one size per row of labels; an x
+//! axis' crowded tick labels are thinned, first and last kept, each left under its tick; the
+//! plot stays one linear map; a picture with nothing around its plot is still drawn at one
+//! scale on its ground; a stream keeps its layout.
+
+use vizretarget::compare::draw_label;
+use vizretarget::{retarget, Image, Options, Size};
+
+const INK: [u8; 4] = [40, 40, 40, 255];
+const DOT: [u8; 4] = [214, 39, 40, 255];
+
+fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
+    for y in y0..y1.min(img.height()) {
+        for x in x0..x1.min(img.width()) {
+            img.set(x, y, c);
+        }
+    }
+}
+
+fn disc(img: &mut Image, cx: f32, cy: f32, r: f32, c: [u8; 4]) {
+    for y in (cy - r - 1.0).max(0.0) as u32..((cy + r + 2.0) as u32).min(img.height()) {
+        for x in (cx - r - 1.0).max(0.0) as u32..((cx + r + 2.0) as u32).min(img.width()) {
+            let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
+            if dx * dx + dy * dy <= r * r {
+                img.set(x, y, c);
+            }
+        }
+    }
+}
+
+/// Tick positions (x) of the chart of [`chart`].
+const TICKS: [u32; 6] = [100, 220, 340, 460, 580, 700];
+/// Where the x axis' labels' rows start, and their type size.
+const LABEL_Y: f32 = 378.0;
+const LABEL_PX: f32 = 20.0;
+
+/// A scatter chart 760 × 420: y labels in the left margin, an L of axes, six x ticks with
+/// labels under them ("10000" to "60000", wide enough to collide at half width), a title,
+/// and dots inside.
+fn chart() -> Image {
+    let mut img = Image::filled(Size::new(760, 420).unwrap(), [255; 4]);
+    draw_label(&mut img, 300.0, 6.0, 24.0, "Visitors by month");
+    for (i, l) in ["300", "200", "100"].iter().enumerate() {
+        draw_label(&mut img, 20.0, 60.0 + 100.0 * i as f32, LABEL_PX, l);
+    }
+    rect(&mut img, 80, 40, 82, 362, INK);
+    rect(&mut img, 80, 360, 740, 362, INK);
+    for (i, &t) in TICKS.iter().enumerate() {
+        rect(&mut img, t, 362, t + 2, 368, INK);
+        let text = format!("{}0000", i + 1);
+        draw_label(&mut img, t as f32 - 28.0, LABEL_Y, LABEL_PX, &text);
+    }
+    for (i, (x, y)) in [
+        (150.0, 300.0),
+        (260.0, 120.0),
+        (400.0, 200.0),
+        (520.0, 90.0),
+        (650.0, 250.0),
+    ]
+    .iter()
+    .enumerate()
+    {
+        disc(&mut img, *x, *y, 6.0 + i as f32, DOT);
+    }
+    img
+}
+
+/// The runs `[first, last]` of columns holding dark ink in rows `y0..y1` of `img`.
+fn ink_runs(img: &Image, rows: [u32; 2], gap: u32) -> Vec<[u32; 2]> {
+    runs_darker(img, rows, gap, 110)
+}
+
+/// The runs of columns holding a pixel darker than `level` in rows `y0..y1` of `img`.
+fn runs_darker(img: &Image, [y0, y1]: [u32; 2], gap: u32, level: u8) -> Vec<[u32; 2]> {
+    let dark = |x: u32| (y0..y1).any(|y| img.get(x, y)[0] < level);
+    let mut runs: Vec<[u32; 2]> = Vec::new();
+    for x in 0..img.width() {
+        if !dark(x) {
+            continue;
+        }
+        match runs.last_mut() {
+            Some(r) if x <= r[1] + gap => r[1] = x,
+            _ => runs.push([x, x]),
+        }
+    }
+    runs
+}
+
+/// The rows `[first, last]` holding dark ink in columns `x0..x1`, between rows `y0..y1`.
+fn ink_rows(img: &Image, [x0, x1]: [u32; 2], [y0, y1]: [u32; 2]) -> Option<[u32; 2]> {
+    let dark = |y: u32| (x0..x1).any(|x| img.get(x, y)[0] < 110);
+    let first = (y0..y1).find(|&y| dark(y))?;
+    let last = (y0..y1).rev().find(|&y| dark(y))?;
+    Some([first, last])
+}
+
+/// Tick marks' columns in the output: dark runs in the rows just under the axis.
+fn ticks(img: &Image) -> Vec<f64> {
+    // A 2-px tick resampled at half scale is a grey column: lighter than type.
+    runs_darker(img, [363, 367], 1, 200)
+        .iter()
+        .map(|r| (r[0] + r[1] + 1) as f64 / 2.0)
+        .collect()
+}
+
+#[test]
+fn an_x_axis_crowded_labels_are_thinned_and_keep_their_size_under_their_ticks() {
+    let img = chart();
+    let src_labels = ink_runs(&img, [LABEL_Y as u32, 404], 6);
+    assert_eq!(src_labels.len(), 6, "{src_labels:?}");
+    let src_width = src_labels[0][1] - src_labels[0][0] + 1;
+    let src_rows = ink_rows(&img, [0, 760], [LABEL_Y as u32, 404]).unwrap();
+    let target = Size::new(380, 420).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap();
+    let out = out.image;
+    let labels = ink_runs(&out, [LABEL_Y as u32 - 4, 410], 6);
+    let ticks = ticks(&out);
+    assert_eq!(ticks.len(), 6, "every tick is drawn: {ticks:?}");
+    // Six labels of 56 px under ticks 60 px apart collide: every other one is dropped,
+    // the first and the last kept.
+    assert!(labels.len() < 6 && labels.len() >= 2, "thinned: {labels:?}");
+    let centre = |r: &[u32; 2]| (r[0] + r[1] + 1) as f64 / 2.0;
+    let near = |x: f64| ticks.iter().map(|t| (t - x).abs()).fold(f64::MAX, f64::min);
+    assert!(
+        near(centre(&labels[0])) <= 1.5,
+        "first label under the first tick"
+    );
+    assert!(
+        (centre(labels.last().unwrap()) - ticks[5]).abs() <= 1.5,
+        "last label under the last tick: {labels:?} {ticks:?}"
+    );
+    for l in &labels {
+        assert!(
+            near(centre(l)) <= 1.5,
+            "label {l:?} off its tick: {ticks:?}"
+        );
+        // One size for the row, the author's: as wide as in the source.
+        let w = l[1] - l[0] + 1;
+        assert!(
+            w.abs_diff(src_width) <= 2,
+            "label {w} px wide, source {src_width}"
+        );
+    }
+    let rows = ink_rows(&out, [0, 380], [LABEL_Y as u32 - 4, 410]).unwrap();
+    assert!(
+        (rows[1] - rows[0]).abs_diff(src_rows[1] - src_rows[0]) <= 1,
+        "type height kept: {rows:?} against {src_rows:?}"
+    );
+    // Without the layout, no label is dropped.
+    let plain = retarget(&img, target, &Options::default().with_layout(false)).unwrap();
+    let kept = ink_runs(&plain.image, [LABEL_Y as u32 - 4, 410], 1);
+    assert!(kept.len() >= 6, "{kept:?}");
+}
+
+/// The plot is one linear map: the ticks, evenly spaced in the source, stay evenly spaced.
+#[test]
+fn the_plot_stays_one_linear_map() {
+    let out = retarget(&chart(), Size::new(380, 420).unwrap(), &Options::default()).unwrap();
+    let t = ticks(&out.image);
+    assert_eq!(t.len(), 6);
+    let steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    let spread = steps.iter().cloned().fold(f64::MIN, f64::max)
+        - steps.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(spread <= 1.0, "{steps:?}");
+    assert_eq!(out.stats.fitted, None, "laid out, not letterboxed");
+}
+
+/// A dot keeps its size (the author's) where no other is near.
+#[test]
+fn round_marks_keep_their_size() {
+    let img = chart();
+    let out = retarget(&img, Size::new(380, 420).unwrap(), &Options::default()).unwrap();
+    let red = |im: &Image| {
+        (0..im.height())
+            .flat_map(|y| (0..im.width()).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let p = im.get(x, y);
+                p[0] > 180 && p[1] < 90
+            })
+            .count() as f64
+    };
+    let ratio = red(&out.image) / red(&img);
+    assert!(ratio > 0.85, "dots kept {ratio} of their area");
+}
+
+/// A stream whose plot stands keeps its layout: a frame laid out in the stream is the same
+/// as the first frame where nothing changed, and the plot's ticks do not move when a dot does.
+#[test]
+fn a_stream_keeps_its_layout() {
+    let first = chart();
+    let mut second = first.clone();
+    disc(&mut second, 300.0, 320.0, 5.0, DOT);
+    let target = Size::new(380, 420).unwrap();
+    let mut r = vizretarget::Retargeter::new(target, Options::default()).unwrap();
+    let mut outs = Vec::new();
+    for (i, f) in [first.clone(), second, first].into_iter().enumerate() {
+        r.send_frame(vizretarget::Frame::new(f, i as u64)).unwrap();
+        outs.push(r.receive_frame().unwrap().image);
+    }
+    assert_eq!(ticks(&outs[0]), ticks(&outs[1]), "the plot did not move");
+    assert!(outs[2] == outs[0], "the same frame, the same picture");
+}
