@@ -59,14 +59,20 @@ pub fn picture(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Picture> {
     let array = obj.cast::<PyArray3<u8>>()?;
     let view = array.try_readonly().map_err(|e| bad(what, e))?;
     let mut pixels = vec![[0u8; 4]; size.area()];
-    match view.as_slice() {
-        Ok(bytes) if channels == 4 => pixels.as_flattened_mut().copy_from_slice(bytes),
-        Ok(bytes) => {
+    // `as_slice` also takes a column-major array, whose bytes are in another order.
+    let packed = if view.is_c_contiguous() {
+        view.as_slice().ok()
+    } else {
+        None
+    };
+    match packed {
+        Some(bytes) if channels == 4 => pixels.as_flattened_mut().copy_from_slice(bytes),
+        Some(bytes) => {
             for (p, s) in pixels.iter_mut().zip(bytes.chunks_exact(3)) {
                 *p = [s[0], s[1], s[2], 255];
             }
         }
-        Err(_) => {
+        None => {
             let a = view.as_array();
             for (p, lane) in pixels.iter_mut().zip(a.rows()) {
                 *p = [

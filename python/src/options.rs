@@ -221,9 +221,7 @@ fn marks(given: &Given<'_>) -> PyResult<Option<VectorLayer>> {
         if path.is_dir() || path.extension().is_some_and(|e| e == "jsonl") {
             return Ok(None);
         }
-        return read_layer(&path)
-            .map(Some)
-            .map_err(|e| bad("option marks", e));
+        return read_layer(&path).map(Some).map_err(to_py);
     }
     layer(&v).map(Some)
 }
