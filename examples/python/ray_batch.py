@@ -16,6 +16,7 @@ the script prints one line per size and the throughput.
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 import time
@@ -88,6 +89,8 @@ def main(argv: List[str]) -> int:
     import ray
 
     ray.init(address=a.address, num_cpus=a.num_cpus, log_to_driver=False)
+    ray.data.DataContext.get_current().enable_progress_bars = False
+    logging.getLogger("ray.data").setLevel(logging.WARNING)
     sizes = [s.strip() for s in a.sizes.split(",") if s.strip()]
     start = time.perf_counter()
     rows = run(a.src, a.dst, sizes, a.batch_size)

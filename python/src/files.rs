@@ -37,12 +37,13 @@ impl Job {
                 "'-' (standard input or output) is for the command line: give file or folder paths",
             ));
         }
+        let opts = options::options(given)?;
         Ok(Job {
             src,
             dst,
             target,
-            options: options::options(given)?,
-            method: options::method(given)?,
+            method: options::method(given, &opts)?,
+            options: opts,
             limits: options::limits(given)?,
             fps: given.get::<f64>("fps")?,
             marks: options::marks_path(given)?,

@@ -32,7 +32,7 @@ fn retarget<'py>(
 ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyDict>>)> {
     let given = Given::new(options, &[STILL])?;
     let opts = options::options(&given)?;
-    let method = options::method(&given)?;
+    let method = options::method(&given, &opts)?;
     let target = options::target(size)?;
     let p = picture(image, "image")?;
     let target = options::resolve(&target, p.image.size())?;
@@ -115,12 +115,40 @@ fn retarget_file<'py>(
     Ok(d)
 }
 
+/// Milliseconds of each of `repeat` calls of the library's own `vizretarget::retarget` on
+/// `image` (default options), timed in Rust: what `benches/python_overhead.py` compares the
+/// package's call with.
+#[pyfunction]
+fn _library_ms(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    size: &Bound<'_, PyAny>,
+    repeat: usize,
+) -> PyResult<Vec<f64>> {
+    let p = picture(image, "image")?;
+    let target = options::resolve(&options::target(size)?, p.image.size())?;
+    let opts = vizretarget::Options::default();
+    py.detach(|| {
+        (0..repeat)
+            .map(|_| {
+                let start = std::time::Instant::now();
+                let out = vizretarget::retarget(&p.image, target, &opts)?;
+                let ms = start.elapsed().as_secs_f64() * 1e3;
+                drop(out);
+                Ok(ms)
+            })
+            .collect::<Result<Vec<f64>, vizretarget::Error>>()
+    })
+    .map_err(to_py)
+}
+
 #[pymodule]
 fn _vizretarget(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(retarget, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(retarget_file, m)?)?;
+    m.add_function(wrap_pyfunction!(_library_ms, m)?)?;
     m.add_class::<stream::NativeRetargeter>()?;
     Ok(())
 }

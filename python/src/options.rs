@@ -155,12 +155,24 @@ pub fn options(given: &Given<'_>) -> PyResult<Options> {
     Ok(o)
 }
 
-/// `method`: `"mesh"` (the default) or a method compared against.
-pub fn method(given: &Given<'_>) -> PyResult<Method> {
-    match given.get::<String>("method")? {
-        Some(m) => m.parse().map_err(to_py),
-        None => Ok(Method::Mesh),
+/// `method`: `"mesh"` (the default) or a method compared against, which draws no marks
+/// and enlarges nothing (refused with them, as on the command line).
+pub fn method(given: &Given<'_>, options: &Options) -> PyResult<Method> {
+    let method = match given.get::<String>("method")? {
+        Some(m) => m.parse().map_err(to_py)?,
+        None => Method::Mesh,
+    };
+    let vector = options.marks.is_some()
+        || options.vector.paint_out
+        || !options.enhance.is_identity()
+        || given.raw("marks")?.is_some();
+    if method != Method::Mesh && vector {
+        return Err(bad(
+            "option method",
+            "marks, paint_out_marks and enhance* work with method mesh (the default)",
+        ));
     }
+    Ok(method)
 }
 
 /// `enhance_region`: one `(x, y, w, h, factor)` or a list of them (the last wins where

@@ -58,6 +58,7 @@ def test_bad_sizes(size, message: str) -> None:
         ({"alpha": 2}, "invalid option: alpha 2 is out of range: allowed 4 to 200"),
         ({"alpha": "fine"}, "option alpha: .*got str"),
         ({"method": "blur"}, 'unknown method "blur": allowed mesh, linear, crop, grid, seam, axis'),
+        ({"method": "seam", "enhance": (1, 1, 2)}, "option method: marks, paint_out_marks and enhance\\* work with method mesh"),
         ({"regions": "some"}, 'option regions: unknown regions "some": allowed affine, auto, free'),
         ({"mark_size": "huge"}, "unknown mark size"),
         ({"enhance": (1, 1, 9)}, "enhancement of saliency level 3 9 is out of range: allowed 0.25 to 4"),

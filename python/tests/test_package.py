@@ -34,7 +34,7 @@ def test_stubs_ship_with_the_package() -> None:
 def test_readme_python_examples_run(tmp_path, monkeypatch) -> None:
     """The README's Python examples, as written there, from the repository root."""
     readme = (REPO / "README.md").read_text()
-    section = readme.split("## Python", 1)[1].split("\n## ", 1)[0]
+    section = readme.split("### Python", 1)[1].split("\n### ", 1)[0]
     blocks = re.findall(r"```python\n(.*?)```", section, re.S)
     assert len(blocks) >= 2
     monkeypatch.chdir(REPO)
