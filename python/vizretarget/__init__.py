@@ -70,7 +70,9 @@ def _from_array(array: np.ndarray, mode: Optional[str]) -> Any:
         return array
     from PIL import Image
 
-    return Image.fromarray(array)
+    # Over the array's memory, without a copy (Pillow copies it if the image is written).
+    h, w = array.shape[:2]
+    return Image.frombuffer(mode, (w, h), array, "raw", mode, 0, 1)
 
 
 def retarget(image: Any, size: Any, **options: Any) -> Any:
