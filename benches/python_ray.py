@@ -28,14 +28,22 @@ REPO = Path(__file__).resolve().parents[1]
 
 def make_stills(folder: Path, size: tuple[int, int], n: int = 200) -> list[Path]:
     frames = sorted((REPO / "streams").glob("*/frame-*.png"))
+    rng = random.Random(38)
     pictures = []
     for i in range(n):
         with Image.open(frames[i % len(frames)]) as im:
-            im = im.convert("RGB").resize(size, Image.Resampling.BICUBIC)
+            # A window of 80 to 100 % of the frame somewhere in it: no two stills alike, so
+            # that the command line's stream of a folder has nothing to reuse, as in a batch
+            # of different charts.
+            w, h = im.size
+            f = rng.uniform(0.8, 1.0)
+            x, y = rng.uniform(0, w * (1 - f)), rng.uniform(0, h * (1 - f))
+            im = im.convert("RGB").resize(size, Image.Resampling.BICUBIC, box=(x, y, x + w * f, y + h * f))
             if (i // len(frames)) % 2:
                 im = ImageOps.mirror(im)
             pictures.append(im)
-    random.Random(38).shuffle(pictures)
+    rng.shuffle(pictures)
+    folder.mkdir(parents=True, exist_ok=True)
     paths = []
     for i, im in enumerate(pictures):
         paths.append(folder / f"still-{i:03}.png")
@@ -63,7 +71,10 @@ def main() -> None:
         for r in range(a.runs):
             t = time.perf_counter()
             procs = [
-                subprocess.Popen([a.cli, str(h), "--size", a.size, "-o", f"{work}/cli-{r}-{h.name}/", "-q"])
+                subprocess.Popen(
+                    [a.cli, str(h), "--size", a.size, "-o", f"{work}/cli-{r}-{h.name}/", "-q",
+                     "--stats-json", f"{work}/cli-{r}-{h.name}.json"]
+                )
                 for h in halves
             ]
             assert all(pr.wait() == 0 for pr in procs)
@@ -86,8 +97,14 @@ def main() -> None:
             assert len(rows) == len(stills)
         ray.shutdown()
         best_cli = min(cli_times)
+        import json
+
+        decisions: dict[str, int] = {}
+        for h in halves:
+            for f in json.loads((work / f"cli-0-{h.name}.json").read_text())["frames"]:
+                decisions[f["decision"]] = decisions.get(f["decision"], 0) + 1
         print(f"200 stills {a.still} -> {a.size}, 2 CPUs (s):")
-        print(f"  two CLI processes, 100 each: {', '.join(f'{x:.2f}' for x in cli_times)}")
+        print(f"  two CLI processes, 100 each: {', '.join(f'{x:.2f}' for x in cli_times)} ({decisions})")
         print(f"  Ray start-up (ray.init, apart): {startup:.2f}")
         print(f"  Ray Data, cold (starts its workers): {ray_times[0]:.2f}")
         print(f"  Ray Data, warm: {', '.join(f'{x:.2f}' for x in ray_times[1:])}")

@@ -32,24 +32,36 @@ def size_dir(size: str) -> str:
     return size.replace("%", "pc")
 
 
-def retarget_batch(batch: Dict[str, np.ndarray], dst: str, sizes: List[str]) -> Dict[str, Any]:
-    """Ray Data's unit of work: every picture of `batch` to every size."""
+def retarget_batch(
+    batch: Dict[str, np.ndarray], dst: str, sizes: List[str], threads: int = 2
+) -> Dict[str, Any]:
+    """Ray Data's unit of work: every picture of `batch` to every size.
+
+    The calls run on `threads` threads: the package releases the GIL, and each output is
+    synced to disk before it is renamed into place, so while one call waits on the disk
+    another computes (one thread left a CPU idle about a third of the time)."""
+    from concurrent.futures import ThreadPoolExecutor
+
     import vizretarget
 
-    rows: Dict[str, List[Any]] = {"src": [], "dst": [], "size": [], "seconds": []}
-    for src in batch["path"]:
-        stem = os.path.splitext(os.path.basename(src))[0]
-        for size in sizes:
-            out = os.path.join(dst, size_dir(size), stem + ".png")
-            done = vizretarget.retarget_file(src, out, size)
-            rows["src"].append(src)
-            rows["dst"].append(out)
-            rows["size"].append(size)
-            rows["seconds"].append(done["seconds"])
-    return {k: np.asarray(v) for k, v in rows.items()}
+    jobs = [
+        (src, os.path.join(dst, size_dir(size), os.path.splitext(os.path.basename(src))[0] + ".png"), size)
+        for src in batch["path"]
+        for size in sizes
+    ]
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        done = list(pool.map(lambda j: vizretarget.retarget_file(*j), jobs))
+    return {
+        "src": np.asarray([j[0] for j in jobs]),
+        "dst": np.asarray([j[1] for j in jobs]),
+        "size": np.asarray([j[2] for j in jobs]),
+        "seconds": np.asarray([d["seconds"] for d in done]),
+    }
 
 
-def run(src: str, dst: str, sizes: List[str], batch_size: int = 8) -> List[Dict[str, Any]]:
+def run(
+    src: str, dst: str, sizes: List[str], batch_size: int = 8, threads: int = 2
+) -> List[Dict[str, Any]]:
     """Retargets every picture of `src` into `dst` on the Ray cluster already initialised;
     returns one row per output."""
     import ray
@@ -66,7 +78,7 @@ def run(src: str, dst: str, sizes: List[str], batch_size: int = 8) -> List[Dict[
     ds = ray.data.from_items([{"path": p} for p in paths])
     ds = ds.map_batches(
         retarget_batch,
-        fn_kwargs={"dst": os.path.abspath(dst), "sizes": sizes},
+        fn_kwargs={"dst": os.path.abspath(dst), "sizes": sizes, "threads": threads},
         batch_size=batch_size,
         batch_format="numpy",
     )
@@ -85,6 +97,7 @@ def main(argv: List[str]) -> int:
     p.add_argument("--address", default=None, help="a Ray cluster's address (auto, ray://...)")
     p.add_argument("--num-cpus", type=int, default=None, help="CPUs of a local Ray")
     p.add_argument("--batch-size", type=int, default=8, help="pictures per task")
+    p.add_argument("--threads", type=int, default=2, help="calls at once in a task")
     a = p.parse_args(argv)
     import ray
 
@@ -93,7 +106,7 @@ def main(argv: List[str]) -> int:
     logging.getLogger("ray.data").setLevel(logging.WARNING)
     sizes = [s.strip() for s in a.sizes.split(",") if s.strip()]
     start = time.perf_counter()
-    rows = run(a.src, a.dst, sizes, a.batch_size)
+    rows = run(a.src, a.dst, sizes, a.batch_size, a.threads)
     wall = time.perf_counter() - start
     for size in sizes:
         n = sum(1 for r in rows if r["size"] == size)

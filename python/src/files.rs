@@ -16,7 +16,7 @@ use vizretarget::io::{
     Magic, MarkedSource, OutputChoice, OutputFormat, SinkFormat, SinkOptions,
 };
 use vizretarget::stream::{FrameSource, NoProgress};
-use vizretarget::{retarget_with, Error, Limits, Method, Options, Pipeline, Target};
+use vizretarget::{retarget, retarget_with, Error, Limits, Method, Options, Pipeline, Target};
 
 /// Everything a file job needs, read from Python before the GIL is released.
 pub struct Job {
@@ -140,8 +140,13 @@ fn still(job: &Job, dst: &Path, format: OutputFormat) -> PyResult<Done> {
         .check_still(&job.src, from, target)
         .map_err(to_py)?;
     let image = read_still_with(&job.src, &job.limits).map_err(to_py)?;
-    let out = retarget_with(job.method, &image, target, &job.options).map_err(to_py)?;
-    write_still(&out.image, dst, format).map_err(to_py)?;
+    // The mesh as the command line runs it: `retarget_with` would keep the analysis too.
+    let out = match job.method {
+        Method::Mesh => retarget(&image, target, &job.options).map(|r| r.image),
+        m => retarget_with(m, &image, target, &job.options).map(|r| r.image),
+    }
+    .map_err(to_py)?;
+    write_still(&out, dst, format).map_err(to_py)?;
     Ok(Done {
         frames: 1,
         rebuilt: 1,
