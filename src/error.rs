@@ -116,6 +116,12 @@ impl From<InvalidSize> for Error {
     }
 }
 
+impl From<crate::target::InvalidTarget> for Error {
+    fn from(e: crate::target::InvalidTarget) -> Error {
+        Error::InvalidOptions(e.0)
+    }
+}
+
 impl std::fmt::Debug for Error {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         std::fmt::Display::fmt(self, f)

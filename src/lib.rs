@@ -60,6 +60,7 @@ mod simd;
 mod size;
 mod solve;
 mod structure;
+mod target;
 mod tiles;
 
 pub mod io;
@@ -92,4 +93,5 @@ pub use size::InvalidSize;
 pub use solve::{EnergyParams, Locator, SolveStats, Solver, Warp};
 pub use stream::{FrameSink, FrameSource, Pipeline, Repeat, RunSummary};
 pub use structure::{AreaKind, Bands, DataArea, Line, Regions, Structure, TextBlock};
+pub use target::{InvalidTarget, Side, Target};
 pub use vector::{MarkSize, VectorLayer, VectorOptions};

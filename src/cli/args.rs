@@ -3,7 +3,8 @@
 
 use clap::Parser;
 use std::path::PathBuf;
-use vizretarget::{ReuseOptions, Size};
+use vizretarget::ReuseOptions;
+pub use vizretarget::{Side, Target};
 
 /// Help text after the options of `--help`: worked examples and exit codes.
 const EXAMPLES: &str = "\
@@ -749,126 +750,18 @@ fn parse_fps(s: &str) -> Result<f64, String> {
     Ok(f)
 }
 
-/// One side of a target: pixels, or a percentage of the input's side (resolved per input, and
-/// per snapshot when watching).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub enum Side {
-    Px(u32),
-    Percent(f64),
-}
-
-/// The target as given: each side, or `None` to keep the input's.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
-pub struct Target {
-    pub width: Option<Side>,
-    pub height: Option<Side>,
-}
-
-impl Target {
-    /// `--size` if given, else `--width` and `--height`.
-    pub fn of(size: Option<Target>, width: Option<Side>, height: Option<Side>) -> Target {
-        size.unwrap_or(Target { width, height })
-    }
-
-    /// The size for an input of size `from`; a percentage that gives more than
-    /// [`vizretarget::MAX_SIDE`] px is a usage error naming it.
-    pub fn resolve(&self, from: Size) -> Result<Size, super::UsageError> {
-        let side = |s: Option<Side>, of: u32, name: &str| match s {
-            None => Ok(of),
-            Some(Side::Px(n)) => Ok(n),
-            Some(Side::Percent(p)) => {
-                let n = (of as f64 * p / 100.0).round().max(1.0);
-                if n > vizretarget::MAX_SIDE as f64 {
-                    return Err(super::UsageError(format!(
-                        "{p}% of the input's {name} ({of} px) is {n} px, out of range: each side \
-                         must be 1 to {}",
-                        vizretarget::MAX_SIDE
-                    )));
-                }
-                Ok(n as u32)
-            }
-        };
-        let w = side(self.width, from.width, "width")?;
-        let h = side(self.height, from.height, "height")?;
-        Size::new(w, h).map_err(|e| super::UsageError(e.to_string()))
-    }
-
-    /// The size when both sides are given in pixels, the same for every input.
-    pub fn fixed(&self) -> Option<Size> {
-        match (self.width, self.height) {
-            (Some(Side::Px(w)), Some(Side::Px(h))) => Size::new(w, h).ok(),
-            _ => None,
-        }
-    }
-}
-
-/// Most a percentage may be: more gives above [`vizretarget::MAX_SIDE`] px from any input.
-const MAX_PERCENT: f64 = vizretarget::MAX_SIDE as f64 * 100.0;
-
+/// `--width N`, `--height N`: px or a percentage, read by the library ([`Side::parse`]).
 fn parse_side(s: &str) -> Result<Side, String> {
-    let t = s.trim();
-    if let Some(num) = t.strip_suffix('%') {
-        let p: f64 = num
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{s}' is not a percentage (e.g. 50%)"))?;
-        if !(p > 0.0 && p <= MAX_PERCENT) {
-            return Err(format!(
-                "'{s}' is out of range: a percentage of the input's side must be above 0% and \
-                 at most {MAX_PERCENT}%"
-            ));
-        }
-        return Ok(Side::Percent(p));
-    }
-    parse_px(s).map(Side::Px)
+    Side::parse(s).map_err(|e| e.0)
 }
 
 fn parse_px(s: &str) -> Result<u32, String> {
-    let n: i64 = s.trim().parse().map_err(|_| {
-        format!("'{s}' is not a whole number of pixels or a percentage (e.g. 400 or 50%)")
-    })?;
-    if n < 1 || n > vizretarget::MAX_SIDE as i64 {
-        return Err(format!(
-            "{n} px is out of range: each side must be 1 to {}",
-            vizretarget::MAX_SIDE
-        ));
-    }
-    Ok(n as u32)
+    Side::parse_px(s).map_err(|e| e.0)
 }
 
-/// `WxH` with each side in px or %, or one side left out (`400x`, `x300`).
-/// A lone percentage (`200%`) scales both sides, as ImageMagick's `-resize 200%` does.
+/// `--size WxH`, or a lone percentage of both sides, read by the library ([`Target::parse`]).
 fn parse_size(s: &str) -> Result<Target, String> {
-    if !s.contains(['x', 'X']) && s.trim().ends_with('%') {
-        let side = parse_side(s)?;
-        return Ok(Target {
-            width: Some(side),
-            height: Some(side),
-        });
-    }
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| {
-        format!(
-            "'{s}' is not WIDTHxHEIGHT (e.g. 400x600, 50%x100%, 400x to keep the height) or a \
-             percentage of both sides (50%)"
-        )
-    })?;
-    let side = |v: &str| -> Result<Option<Side>, String> {
-        if v.trim().is_empty() {
-            Ok(None)
-        } else {
-            parse_side(v).map(Some)
-        }
-    };
-    let target = Target {
-        width: side(w)?,
-        height: side(h)?,
-    };
-    if target == Target::default() {
-        return Err(format!(
-            "'{s}' gives neither side: e.g. 400x600, or 400x to keep the height"
-        ));
-    }
-    Ok(target)
+    Target::parse(s).map_err(|e| e.0)
 }
 
 /// `WxH` in px, both sides (the size of raw frames).
@@ -914,6 +807,7 @@ fn parse_unit_f64(s: &str) -> Result<f64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vizretarget::Size;
 
     #[test]
     fn sizes_parse_and_bad_ones_explain() {

@@ -61,6 +61,7 @@ pub(crate) use usage;
 /// before any work.
 pub fn is_usage_error(e: &anyhow::Error) -> bool {
     e.downcast_ref::<UsageError>().is_some()
+        || e.downcast_ref::<vizretarget::InvalidTarget>().is_some()
         || matches!(
             e.downcast_ref::<vizretarget::Error>(),
             Some(vizretarget::Error::InvalidOptions(_) | vizretarget::Error::InvalidSize { .. })

@@ -1,0 +1,119 @@
+"""A folder of pictures to several screen sizes, spread over a Ray cluster with Ray Data.
+
+Each picture of SRC is retargeted to every size given and written to DST/<size>/<name>.png;
+the unit of work is one call of the package, `vizretarget.retarget_file`, which reads,
+retargets and writes a picture as the command line does (same bytes), with the GIL released.
+Ray Data schedules the calls in batches over the cluster's CPUs.
+
+    python examples/python/ray_batch.py charts/ out/ --sizes 360x640,1080x1080,50%
+    python examples/python/ray_batch.py charts/ out/ --num-cpus 2      # a local Ray, 2 CPUs
+    python examples/python/ray_batch.py /nfs/charts/ /nfs/out/ --address auto  # a cluster
+
+On a cluster SRC and DST must be paths every node sees (a shared or network file system);
+the script prints one line per size and the throughput.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import sys
+import time
+from typing import Any, Dict, List
+
+import numpy as np
+
+PICTURES = (".png", ".jpg", ".jpeg", ".webp", ".gif")
+
+
+def size_dir(size: str) -> str:
+    """A folder name for a size as given ("50%" becomes "50pc")."""
+    return size.replace("%", "pc")
+
+
+def retarget_batch(
+    batch: Dict[str, np.ndarray], dst: str, sizes: List[str], threads: int = 2
+) -> Dict[str, Any]:
+    """Ray Data's unit of work: every picture of `batch` to every size.
+
+    The calls run on `threads` threads: the package releases the GIL, and each output is
+    synced to disk before it is renamed into place, so while one call waits on the disk
+    another computes (alone, a call on 40 stills used its CPU 1.3 s of 2.4 s)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    import vizretarget
+
+    jobs = [
+        (src, os.path.join(dst, size_dir(size), os.path.splitext(os.path.basename(src))[0] + ".png"), size)
+        for src in batch["path"]
+        for size in sizes
+    ]
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        done = list(pool.map(lambda j: vizretarget.retarget_file(*j), jobs))
+    return {
+        "src": np.asarray([j[0] for j in jobs]),
+        "dst": np.asarray([j[1] for j in jobs]),
+        "size": np.asarray([j[2] for j in jobs]),
+        "seconds": np.asarray([d["seconds"] for d in done]),
+    }
+
+
+def run(
+    src: str, dst: str, sizes: List[str], batch_size: int = 8, threads: int = 2
+) -> List[Dict[str, Any]]:
+    """Retargets every picture of `src` into `dst` on the Ray cluster already initialised;
+    returns one row per output."""
+    import ray
+
+    paths = sorted(
+        os.path.abspath(os.path.join(src, n))
+        for n in os.listdir(src)
+        if n.lower().endswith(PICTURES) and not n.startswith(".")
+    )
+    if not paths:
+        raise SystemExit(f"{src}: no pictures (PNG, JPEG, WebP, GIF)")
+    for size in sizes:
+        os.makedirs(os.path.join(dst, size_dir(size)), exist_ok=True)
+    ds = ray.data.from_items([{"path": p} for p in paths])
+    ds = ds.map_batches(
+        retarget_batch,
+        fn_kwargs={"dst": os.path.abspath(dst), "sizes": sizes, "threads": threads},
+        batch_size=batch_size,
+        batch_format="numpy",
+    )
+    return ds.take_all()
+
+
+def main(argv: List[str]) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("src", help="a folder of pictures")
+    p.add_argument("dst", help="the folder to write into (one folder per size)")
+    p.add_argument(
+        "--sizes",
+        default="360x640,1080x1080",
+        help="target sizes, comma separated, as --size takes them (400x, 50%%x100%%)",
+    )
+    p.add_argument("--address", default=None, help="a Ray cluster's address (auto, ray://...)")
+    p.add_argument("--num-cpus", type=int, default=None, help="CPUs of a local Ray")
+    p.add_argument("--batch-size", type=int, default=8, help="pictures per task")
+    p.add_argument("--threads", type=int, default=2, help="calls at once in a task")
+    a = p.parse_args(argv)
+    import ray
+
+    ray.init(address=a.address, num_cpus=a.num_cpus, log_to_driver=False)
+    ray.data.DataContext.get_current().enable_progress_bars = False
+    logging.getLogger("ray.data").setLevel(logging.WARNING)
+    sizes = [s.strip() for s in a.sizes.split(",") if s.strip()]
+    start = time.perf_counter()
+    rows = run(a.src, a.dst, sizes, a.batch_size, a.threads)
+    wall = time.perf_counter() - start
+    for size in sizes:
+        n = sum(1 for r in rows if r["size"] == size)
+        print(f"{size}: {n} pictures into {os.path.join(a.dst, size_dir(size))}")
+    print(f"{len(rows)} outputs in {wall:.2f} s ({len(rows) / wall:.1f} per second), Ray's start-up apart")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
