@@ -20,8 +20,9 @@ echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -
 python3 benches/stills/crossing_lines.py "$tmp/crossing-lines.png"
 cases=("$tmp/crossing-lines.png 750x800")
 for d in streams/*/; do
-  f=$(ls "$d" | head -1)
-  cases+=("$d$f half")
+  # A stream's first frame; a folder of other samples (streams/marks/) has none.
+  f=$(ls "$d" | grep -m1 '^frame-.*\.png$' || true)
+  [ -n "$f" ] && cases+=("$d$f half")
 done
 if [ -f ../shared/tools/make_cases.py ]; then
   python3 ../shared/tools/make_cases.py "$tmp/cases" --seed 7 >/dev/null
