@@ -156,8 +156,8 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     bands.free = areas.is_empty();
     bands.plots_x = around_text(spans_of(areas, w, true), text, |t| [t.x0, t.x1 + 1]);
     bands.plots_y = around_text(spans_of(areas, h, false), text, |t| [t.y0, t.y1 + 1]);
-    if text.is_empty() {
-        // Without text every clean run is blank.
+    if text.is_empty() && !areas.is_empty() {
+        // Without text every clean run is blank (read only where there are plots to lay out).
         bands.blank_x = runs_where(w, |x| !step_across(image, x, true) && !inside_x(areas, x));
         bands.blank_y = runs_where(h, |y| !step_across(image, y, false) && !inside_y(areas, y));
     }
