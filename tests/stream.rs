@@ -628,8 +628,8 @@ fn changing_text_is_found_afresh() {
     let out = run_sequential(&frames, target, &options);
     // A stream keeps only the text bands all its frames share (so its plot does not move
     // back and forth); where a frame's own bands are those, it is drawn as if alone.
-    // The blank runs a layout shrinks matter only around plots, which this picture has
-    // none of (its bars stand on no baseline).
+    // The blank runs a layout shrinks and the type it keeps matter only around plots,
+    // which this picture has none of (its bars stand on no baseline).
     let bands = |r: &vizretarget::Retargeted| {
         let a = r.analysis.as_ref().expect("kept");
         a.mesh.structure().map(|s| {
@@ -637,6 +637,8 @@ fn changing_text_is_found_afresh() {
             vizretarget::Bands {
                 blank_x: Vec::new(),
                 blank_y: Vec::new(),
+                type_x: Vec::new(),
+                type_y: Vec::new(),
                 ..s.bands.clone()
             }
         })

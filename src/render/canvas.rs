@@ -218,7 +218,18 @@ impl AxisMap {
     ///
     /// Each stretch kept at its size starts on a whole output pixel: its pixels are copied,
     /// not resampled between two.
-    pub fn around_plots(n: u32, m: u32, plots: &[[u32; 2]], margins: &[[u32; 2]]) -> AxisMap {
+    ///
+    /// `type_spans` are where text stands: drawn content outside the plots that holds no
+    /// type (a panel not found as a data area, a picture) and outweighs the type beside it
+    /// means the picture is not a chart laid out around its plots, and the map is linear
+    /// (kept at its size, such a panel would take the plots' room).
+    pub fn around_plots(
+        n: u32,
+        m: u32,
+        plots: &[[u32; 2]],
+        margins: &[[u32; 2]],
+        type_spans: &[[u32; 2]],
+    ) -> AxisMap {
         let (nf, mf) = (n as f64, m as f64);
         let linear = mf / nf;
         let plot = spanned(plots);
@@ -244,6 +255,15 @@ impl AxisMap {
             margins.sort_unstable();
         }
         let (margin, parts) = (spanned(&margins), spanned(&parts_spans));
+        let typed: f64 = (parts_spans.iter())
+            .flat_map(|p| {
+                (type_spans.iter())
+                    .map(move |t| (t[1].min(p[1]) as f64 - t[0].max(p[0]) as f64).max(0.0))
+            })
+            .sum();
+        if parts - typed > typed {
+            return AxisMap::linear(n, m);
+        }
         let least = LEAST_PLOT_SHARE * linear;
         let plot_at = |part: f64, gap: f64| (mf - parts * part - margin * gap) / plot;
         // Blank space gives way first, down to its least share, as a chart's author lets
@@ -491,10 +511,18 @@ impl CanvasMap {
             }
         };
         // Where data areas were found, they take the room the parts around them leave.
-        let plots = [(&b.plots_x, &b.blank_x), (&b.plots_y, &b.blank_y)];
+        let plots = [
+            (&b.plots_x, &b.blank_x, &b.type_x),
+            (&b.plots_y, &b.blank_y, &b.type_y),
+        ];
         let laid_out = |k: usize, map: AxisMap| match plots[k] {
-            (p, g) if with_plots && !p.is_empty() && m[k] < n[k] => {
-                AxisMap::around_plots(n[k], m[k], p, g)
+            (p, g, t) if with_plots && !p.is_empty() && m[k] < n[k] => {
+                // Where the layout declines (linear), the text bands still give way.
+                let around = AxisMap::around_plots(n[k], m[k], p, g, t);
+                match around.is_linear() {
+                    true => map,
+                    false => around,
+                }
             }
             _ => map,
         };
@@ -551,7 +579,7 @@ mod tests {
     /// (900..1000) keep their size, the plot (80..900) takes the rest at one scale.
     #[test]
     fn parts_around_a_plot_keep_their_size_and_the_plot_takes_the_rest() {
-        let m = AxisMap::around_plots(1000, 500, &[[80, 900]], &[]);
+        let m = AxisMap::around_plots(1000, 500, &[[80, 900]], &[], &[[0, 80], [900, 1000]]);
         assert!((m.slope(40.0) - 1.0).abs() < 1e-9, "labels at their size");
         assert!((m.slope(950.0) - 1.0).abs() < 1e-9, "legend at its size");
         let s = m.slope(500.0);
@@ -567,10 +595,21 @@ mod tests {
         assert_eq!((m.apply(0.0), m.apply(1000.0)), (0.0, 500.0));
     }
 
+    /// A panel beside the plot that holds no type (not found as a data area) is no part to
+    /// keep at its size: the picture is not laid out (linear), rather than the plot crushed.
+    #[test]
+    fn an_untyped_panel_beside_a_plot_is_not_kept() {
+        let m = AxisMap::around_plots(1280, 720, &[[10, 600]], &[], &[]);
+        assert!(m.is_linear());
+        // The same with its labels' columns typed: laid out.
+        let m = AxisMap::around_plots(1280, 720, &[[10, 600]], &[], &[[600, 1280]]);
+        assert!(!m.is_linear());
+    }
+
     /// Two panels side by side share one scale; the gutter between them keeps its size.
     #[test]
     fn plots_side_by_side_share_one_scale() {
-        let m = AxisMap::around_plots(1000, 600, &[[50, 480], [520, 950]], &[]);
+        let m = AxisMap::around_plots(1000, 600, &[[50, 480], [520, 950]], &[], &[[0, 1000]]);
         let (a, b) = (m.slope(200.0), m.slope(700.0));
         assert!((a - b).abs() < 1e-9, "{a} {b}");
         assert!((m.slope(500.0) - 1.0).abs() < 1e-9);
@@ -580,18 +619,18 @@ mod tests {
     /// under half the linear scale shrink with it; nothing to lay out is linear.
     #[test]
     fn margins_give_way_and_the_plot_keeps_a_least_share() {
-        let m = AxisMap::around_plots(1000, 500, &[[100, 900]], &[[0, 100]]);
+        let m = AxisMap::around_plots(1000, 500, &[[100, 900]], &[[0, 100]], &[[900, 1000]]);
         let margin = m.slope(50.0);
         assert!((margin - LEAST_GAP_SHARE * 0.5).abs() < 1e-9, "{margin}");
         assert!((m.slope(950.0) - 1.0).abs() < 1e-9);
         // Parts of 800 px around a plot of 200: at their size the plot would vanish.
-        let crowded = AxisMap::around_plots(1000, 500, &[[400, 600]], &[]);
+        let crowded = AxisMap::around_plots(1000, 500, &[[400, 600]], &[], &[[0, 1000]]);
         let plot = crowded.slope(500.0);
         assert!((plot - LEAST_PLOT_SHARE * 0.5).abs() < 1e-9, "{plot}");
         let parts = crowded.slope(100.0);
         assert!(parts > 0.5 && parts < 1.0, "{parts}");
-        assert!(AxisMap::around_plots(1000, 500, &[], &[]).is_linear());
-        assert!(AxisMap::around_plots(500, 1000, &[[0, 400]], &[]).is_linear());
+        assert!(AxisMap::around_plots(1000, 500, &[], &[], &[]).is_linear());
+        assert!(AxisMap::around_plots(500, 1000, &[[0, 400]], &[], &[]).is_linear());
     }
 
     proptest! {
@@ -608,7 +647,7 @@ mod tests {
             at.dedup();
             let plots: Vec<[u32; 2]> =
                 at.chunks_exact(2).filter(|p| p[0] < p[1]).map(|p| [p[0], p[1]]).collect();
-            let map = AxisMap::around_plots(n, m, &plots, &[]);
+            let map = AxisMap::around_plots(n, m, &plots, &[], &[[0, n]]);
             prop_assert_eq!(map.apply(0.0), 0.0);
             prop_assert!((map.apply(n as f64) - m as f64).abs() < 1e-9);
             let mut last = 0.0;

@@ -192,17 +192,6 @@ pub fn area_text_placements<'m>(
     area_text_layout(src, st, maps.into(), target, false).0
 }
 
-/// Whether the text on a canvas taken whole keeps its size under `maps`: no word of it is
-/// left to the map's squeeze ([`TextLayout::all_or_none_on_canvas`]).
-pub(crate) fn canvas_text_floats(
-    src: &Image,
-    st: &crate::structure::Structure,
-    maps: AreaMaps<'_>,
-    target: Size,
-) -> bool {
-    !area_text_layout(src, st, maps, target, true).1
-}
-
 /// [`area_text_placements`], with rows of tick labels thinned where they would collide
 /// (`thinning`, under the layout), and whether the text on a canvas taken whole was left to
 /// the map, all of it.

@@ -18,9 +18,7 @@ mod sample;
 pub use canvas::{AreaMaps, AxisMap, CanvasMap};
 pub(crate) use fill::fill_from_surroundings;
 pub(crate) use fit::Fit;
-pub(crate) use floating::{
-    area_marks, area_text_layout, canvas_text_floats, Floating, MaskKind, RIM_PX,
-};
+pub(crate) use floating::{area_marks, area_text_layout, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
 pub use resize::{resize_linear, resize_mapped};
 pub(crate) use resize::{resize_mapped_on, Threads};

@@ -50,6 +50,10 @@ pub struct Bands {
     /// lies: the blank space a layout shrinks before anything drawn.
     pub blank_x: Vec<[u32; 2]>,
     pub blank_y: Vec<[u32; 2]>,
+    /// The columns (rows) text blocks cover, merged: where the parts around the plots hold
+    /// type ([`crate::render::AxisMap::around_plots`]).
+    pub type_x: Vec<[u32; 2]>,
+    pub type_y: Vec<[u32; 2]>,
 }
 
 impl Bands {
@@ -71,6 +75,8 @@ impl Bands {
             plots_y: kept_plots(&self.plots_y, &before.plots_y),
             blank_x: common(&self.blank_x, &before.blank_x),
             blank_y: common(&self.blank_y, &before.blank_y),
+            type_x: kept_plots(&self.type_x, &before.type_x),
+            type_y: kept_plots(&self.type_y, &before.type_y),
         }
     }
 }
@@ -154,6 +160,8 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         .copied()
         .collect();
     bands.free = areas.is_empty();
+    bands.type_x = merged(text.iter().map(|t| [t.x0, (t.x1 + 1).min(w)]));
+    bands.type_y = merged(text.iter().map(|t| [t.y0, (t.y1 + 1).min(h)]));
     bands.plots_x = around_text(spans_of(areas, w, true), text, |t| [t.x0, t.x1 + 1]);
     bands.plots_y = around_text(spans_of(areas, h, false), text, |t| [t.y0, t.y1 + 1]);
     if text.is_empty() && !areas.is_empty() {
@@ -162,6 +170,20 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         bands.blank_y = runs_where(h, |y| !step_across(image, y, false) && !inside_y(areas, y));
     }
     bands
+}
+
+/// The half-open `spans`, sorted and merged where they touch or overlap.
+fn merged(spans: impl Iterator<Item = [u32; 2]>) -> Vec<[u32; 2]> {
+    let mut spans: Vec<[u32; 2]> = spans.filter(|s| s[0] < s[1]).collect();
+    spans.sort_unstable();
+    let mut out: Vec<[u32; 2]> = Vec::with_capacity(spans.len());
+    for s in spans {
+        match out.last_mut() {
+            Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
+            _ => out.push(s),
+        }
+    }
+    out
 }
 
 /// `plots` grown over every text block that straddles one of their ends (an axis' last tick

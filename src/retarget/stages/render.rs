@@ -135,12 +135,18 @@ impl RenderStage {
         // nothing floats over it. Not under vector marks, which the warp places over the
         // whole target.
         let whole_canvas = mesh.structure().is_some_and(Structure::whole_canvas);
+        // The text's placements where deciding the layout has found them already.
+        let mut placed = None;
         let canvas = whole_canvas.then(|| match vector_marks {
             // A frame's vector marks are placed by the warp, linear over a canvas taken
             // whole: the picture under them follows the same map (its text bands and
             // margins keep no size of their own), or the marks would leave what they mark.
             true => CanvasMap::linear(mesh.size(), target),
-            false if self.layout => laid_out(src, mesh, warp, target),
+            false if self.layout => {
+                let (map, text) = laid_out(src, mesh, warp, target);
+                placed = text;
+                map
+            }
             false => CanvasMap::without_plots(mesh.structure(), mesh.size(), target),
         });
         let fit = (canvas.as_ref())
@@ -152,7 +158,7 @@ impl RenderStage {
         });
         let floating = match fit {
             Some(_) => Floating::default(),
-            None => floating_marks(src, vsm, m, warp, canvas.as_ref(), self.layout),
+            None => floating_marks(src, vsm, m, warp, canvas.as_ref(), self.layout, placed),
         };
         // The warp reads the source with the floating marks painted out.
         let warped = painted_out(
@@ -218,26 +224,36 @@ impl RenderStage {
 /// ([`crate::render::AxisMap::around_plots`]) where its text keeps its size there; where the
 /// text would be left to the plots' squeeze (a word on a busy ground cannot float, and the
 /// canvas' text floats all of it or none), the text bands and margins alone give way.
-fn laid_out(src: &Image, mesh: &Mesh, warp: &Warp, target: crate::image::Size) -> CanvasMap {
+/// Also the text's placements under the plots' map where it was chosen by them, so that
+/// they are not laid out twice.
+fn laid_out(
+    src: &Image,
+    mesh: &Mesh,
+    warp: &Warp,
+    target: crate::image::Size,
+) -> (CanvasMap, Option<Placements>) {
     let structure = mesh.structure();
     let map = CanvasMap::new(structure, mesh.size(), target);
     let Some(st) = structure.filter(|s| !s.text.is_empty()) else {
-        return map;
+        return (map, None);
     };
     let fallback = CanvasMap::without_plots(structure, mesh.size(), target);
     if map == fallback {
-        return map;
+        return (map, None);
     }
     let areas = warp.area_maps(mesh);
     let maps = AreaMaps {
         areas: &areas,
         canvas: Some(&map),
     };
-    match crate::render::canvas_text_floats(src, st, maps, target) {
-        true => map,
-        false => fallback,
+    match crate::render::area_text_layout(src, st, maps, target, true) {
+        (placements, false) => (map, Some(placements)),
+        (_, true) => (fallback, None),
     }
 }
+
+/// Where each text block of a frame is drawn ([`crate::render::area_text_placements`]).
+type Placements = Vec<Option<crate::render::TextPlacement>>;
 
 /// `src`, or, with marks floating, `src` with them painted out into the buffer `painted`.
 fn painted_out<'a>(
@@ -318,6 +334,7 @@ fn floating_marks(
     warp: &Warp,
     canvas_map: Option<&CanvasMap>,
     author_size: bool,
+    placed: Option<Placements>,
 ) -> Floating {
     let mesh = &m.mesh;
     // Marks inside data areas (at the area's one scale, where its map takes their centre),
@@ -335,8 +352,9 @@ fn floating_marks(
             areas: &maps,
             canvas,
         };
-        let placements =
-            crate::render::area_text_layout(src, s, area_maps, warp.target(), author_size).0;
+        let placements = placed.unwrap_or_else(|| {
+            crate::render::area_text_layout(src, s, area_maps, warp.target(), author_size).0
+        });
         for (t, p) in s.text.iter().zip(placements) {
             let Some(p) = p else { continue };
             let (bw, bh) = ((t.x1 - t.x0) as f64, (t.y1 - t.y0) as f64);
