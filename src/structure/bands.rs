@@ -164,10 +164,12 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     bands.type_y = merged(text.iter().map(|t| [t.y0, (t.y1 + 1).min(h)]));
     bands.plots_x = around_text(spans_of(areas, w, true), text, |t| [t.x0, t.x1 + 1]);
     bands.plots_y = around_text(spans_of(areas, h, false), text, |t| [t.y0, t.y1 + 1]);
-    if text.is_empty() && !areas.is_empty() {
-        // Without text every clean run is blank (read only where there are plots to lay out).
-        bands.blank_x = runs_where(w, |x| !step_across(image, x, true) && !inside_x(areas, x));
-        bands.blank_y = runs_where(h, |y| !step_across(image, y, false) && !inside_y(areas, y));
+    if text.is_empty() {
+        // Without text no part is kept (it holds no type) and the layout declines unless the
+        // plots reach the edge's margins: those are its blank runs (not read again: a
+        // column-wise scan of a whole frame costs a text-less stream its frame rate).
+        bands.blank_x = bands.gaps_x.clone();
+        bands.blank_y = bands.gaps_y.clone();
     }
     bands
 }
