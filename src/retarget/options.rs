@@ -41,7 +41,7 @@ pub struct Options {
     /// text over the plots floats at its size, an x axis' crowded tick labels are thinned,
     /// and round marks keep their size where no two would touch. On by default: judged
     /// blind (2026-12-07, two judges a set) above the previous default in 42 of 84 rankings
-    /// of generated charts (27 below: histograms and heat maps) and in 16 of 20 on the real
+    /// of generated charts (27 below: histograms and heat maps) and in 14 of 18 on the real
     /// stills it changes; it still loses where a plot holds shapes that do not float (an
     /// UpSet matrix's dots). A picture without data areas is unchanged by it.
     pub layout: bool,
