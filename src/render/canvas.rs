@@ -393,18 +393,7 @@ fn edge_gaps<'a>(
 
 /// The half-open spans of `[0, n)` that none of `spans` (sorted, not overlapping) covers.
 fn complement(n: u32, spans: &[[u32; 2]]) -> Vec<[u32; 2]> {
-    let mut out = Vec::with_capacity(spans.len() + 1);
-    let mut at = 0;
-    for &[a, b] in spans {
-        if a > at {
-            out.push([at, a]);
-        }
-        at = at.max(b);
-    }
-    if at < n {
-        out.push([at, n]);
-    }
-    out
+    complement_within([0, n], spans)
 }
 
 /// The pieces of `span` that none of `cuts` (sorted, not overlapping) covers.

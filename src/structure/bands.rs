@@ -92,24 +92,13 @@ fn kept_plots(now: &[[u32; 2]], before: &[[u32; 2]]) -> Vec<[u32; 2]> {
 
 /// The half-open source spans that `areas` cover along x (`columns`) or y, merged.
 fn spans_of(areas: &[DataArea], n: u32, columns: bool) -> Vec<[u32; 2]> {
-    let mut spans: Vec<[u32; 2]> = areas
-        .iter()
-        .map(|a| match columns {
+    merged(areas.iter().map(|a| {
+        let [lo, hi] = match columns {
             true => [a.x0, a.x1],
             false => [a.y0, a.y1],
-        })
-        .map(|[a, b]| [a.floor().max(0.0) as u32, (b.ceil() as u32).min(n)])
-        .filter(|[a, b]| a < b)
-        .collect();
-    spans.sort_unstable();
-    let mut merged: Vec<[u32; 2]> = Vec::with_capacity(spans.len());
-    for s in spans {
-        match merged.last_mut() {
-            Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
-            _ => merged.push(s),
-        }
-    }
-    merged
+        };
+        [lo.floor().max(0.0) as u32, (hi.ceil() as u32).min(n)]
+    }))
 }
 
 /// The half-open ranges both `a` and `b` cover (each sorted, not overlapping).
@@ -208,15 +197,7 @@ fn around_text(
                 }
             }
         }
-        plots.sort_unstable();
-        let mut merged: Vec<[u32; 2]> = Vec::with_capacity(plots.len());
-        for s in plots {
-            match merged.last_mut() {
-                Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
-                _ => merged.push(s),
-            }
-        }
-        plots = merged;
+        plots = merged(plots.into_iter());
         if !grown {
             return plots;
         }
@@ -437,23 +418,11 @@ fn covered(n: u32, spans: &[[u32; 2]]) -> Vec<bool> {
 /// inside a plot without a frame touches neither; it is part of an axis' range and keeps
 /// its share of it.
 fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < n {
-        if !empty(i) {
-            i += 1;
-            continue;
-        }
-        let a = i;
-        while i < n && empty(i) {
-            i += 1;
-        }
-        let beside = |p: u32| bands.iter().any(|b| b[0] == p || b[1] == p);
-        if a == 0 || i == n || beside(a) || beside(i) {
-            out.push([a, i]);
-        }
-    }
-    out
+    let beside = |p: u32| bands.iter().any(|b| b[0] == p || b[1] == p);
+    runs_where(n, empty)
+        .into_iter()
+        .filter(|&[a, e]| a == 0 || e == n || beside(a) || beside(e))
+        .collect()
 }
 
 /// For each block, the least index of the blocks of its type size set in one line with it
