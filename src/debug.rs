@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::image::{Image, Size};
 use crate::io::{write_atomic, write_still, OutputFormat};
 use crate::mesh::Mesh;
-use crate::render::{area_text_placements, AreaMaps, CanvasMap};
+use crate::render::{area_text_placements, AreaMaps};
 use crate::retarget::Retargeted;
 use crate::saliency::{SaliencyLevel, Vsm};
 use crate::solve::Warp;
@@ -228,6 +228,19 @@ fn structure_json(s: &Structure) -> serde_json::Value {
         "vertical": lines(&s.vertical),
         "text": s.text.iter().map(|b| serde_json::json!([b.x0, b.y0, b.x1, b.y1, b.line_height])).collect::<Vec<_>>(),
         "areas": s.areas.iter().map(|a| serde_json::json!([a.x0, a.y0, a.x1, a.y1, format!("{:?}", a.kind)])).collect::<Vec<_>>(),
+        "bands": bands_json(&s.bands),
+    })
+}
+
+/// The spans a canvas taken whole is laid out by, as `[from, to)` source columns (`_x`) or
+/// rows (`_y`): text bands, gaps, margins, plots, blank runs and type.
+fn bands_json(b: &crate::structure::Bands) -> serde_json::Value {
+    serde_json::json!({
+        "x": b.x, "y": b.y, "gaps_x": b.gaps_x, "gaps_y": b.gaps_y,
+        "margins_x": b.margins_x, "margins_y": b.margins_y, "free": b.free,
+        "plots_x": b.plots_x, "plots_y": b.plots_y, "blank_x": b.blank_x, "blank_y": b.blank_y,
+        "type_x": b.type_x, "type_y": b.type_y,
+        "panels": b.panels.as_ref().map(|p| p.leaves().iter().map(|l| serde_json::json!({"rect": l.rect, "plots": l.plots, "type": l.type_spans, "blank": l.blank})).collect::<Vec<_>>()),
     })
 }
 
@@ -239,8 +252,8 @@ fn text_out_json(input: &Image, mesh: &Mesh, warp: &Warp) -> serde_json::Value {
     let out = warp.positions();
     let maps = warp.area_maps(mesh);
     let placed = mesh.structure().map_or(Vec::new(), |s| {
-        let canvas =
-            (s.whole_canvas()).then(|| CanvasMap::new(Some(s), mesh.size(), warp.target()));
+        let canvas = (s.whole_canvas())
+            .then(|| crate::render::canvas_map(Some(s), mesh.size(), warp.target()));
         let maps = AreaMaps {
             areas: &maps,
             canvas: canvas.as_ref(),

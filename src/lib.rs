@@ -83,7 +83,7 @@ pub use error::Error;
 pub use image::{Image, ImageRef, Size, MAX_SIDE};
 pub use limits::{parse_bytes, Limit, Limits, MemoryPlan};
 pub use mesh::{Boundary, Mark, Mesh, MeshOptions, Role};
-pub use render::{resize_linear, resize_mapped, AxisMap, CanvasMap, Renderer};
+pub use render::{resize_linear, resize_mapped, AxisMap, CanvasMap, PanelMap, Renderer};
 pub use retarget::{
     retarget, Analysis, Decision, Frame, FrameStats, Options, Retargeted, Retargeter, ReuseOptions,
     StageTimes, Status,
@@ -92,6 +92,6 @@ pub use saliency::{SaliencyLevel, Vsm, VsmBuilder};
 pub use size::InvalidSize;
 pub use solve::{EnergyParams, Locator, SolveStats, Solver, Warp};
 pub use stream::{FrameSink, FrameSource, Pipeline, Repeat, RunSummary};
-pub use structure::{AreaKind, Bands, DataArea, Line, Regions, Structure, TextBlock};
+pub use structure::{AreaKind, Bands, DataArea, Line, Panel, Regions, Split, Structure, TextBlock};
 pub use target::{InvalidTarget, Side, Target};
 pub use vector::{MarkSize, VectorLayer, VectorOptions};

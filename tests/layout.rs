@@ -201,3 +201,80 @@ fn a_stream_keeps_its_layout() {
     assert_eq!(ticks(&outs[0]), ticks(&outs[1]), "the plot did not move");
     assert!(outs[2] == outs[0], "the same frame, the same picture");
 }
+
+/// A small chart in the rectangle at `(x0, y0)`, `w × h`: y labels in its left margin, an
+/// L of axes, five x ticks with labels under them, and dots.
+fn panel(img: &mut Image, x0: u32, y0: u32, w: u32, h: u32) {
+    let (ax, ay) = (x0 + 60, y0 + h - 50);
+    for (i, l) in ["30", "20", "10"].iter().enumerate() {
+        let y = y0 + 20 + i as u32 * (ay - y0 - 40) / 2;
+        draw_label(img, (x0 + 18) as f32, y as f32, LABEL_PX, l);
+    }
+    rect(img, ax, y0 + 10, ax + 2, ay + 2, INK);
+    rect(img, ax, ay, x0 + w - 10, ay + 2, INK);
+    let step = (w - 90) / 5;
+    for i in 0..5 {
+        let t = ax + 15 + i * step;
+        rect(img, t, ay + 2, t + 2, ay + 8, INK);
+        draw_label(
+            img,
+            t as f32 - 10.0,
+            (ay + 16) as f32,
+            LABEL_PX,
+            &format!("{}", 2 * i + 2),
+        );
+    }
+    for k in 0..4 {
+        let (x, y) = (ax + 30 + k * (w - 110) / 4, y0 + 30 + (k * 37) % (h - 100));
+        disc(img, x as f32, y as f32, 6.0, DOT);
+    }
+}
+
+/// A dashboard: a wide chart over two narrow ones, apart by white gutters.
+fn dashboard() -> Image {
+    let mut img = Image::filled(Size::new(800, 600).unwrap(), [255; 4]);
+    panel(&mut img, 0, 0, 800, 280);
+    panel(&mut img, 0, 300, 390, 300);
+    panel(&mut img, 410, 300, 390, 300);
+    img
+}
+
+/// The panels of a dashboard each lay themselves out (a wide chart over two narrow ones
+/// cannot share one map per axis): at half width the picture fills the target instead of
+/// being drawn at one scale, every panel's y labels keep their type size, and each narrow
+/// panel's plot stays one linear map.
+#[test]
+fn the_panels_of_a_dashboard_lay_themselves_out() {
+    let img = dashboard();
+    let target = Size::new(400, 600).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap();
+    assert_eq!(out.stats.fitted, None, "laid out, not letterboxed");
+    let out = out.image;
+    // The y labels of the lower right panel ("30" at its top): their rows of ink.
+    let src_rows = ink_rows(&img, [420, 470], [315, 345]).unwrap();
+    let right = (200..400)
+        .find(|&x| (300..600).any(|y| out.get(x, y)[0] < 110))
+        .expect("the right panel's ink");
+    let rows = ink_rows(&out, [right, right + 30], [305, 350]).expect("its top y label");
+    assert!(
+        (rows[1] - rows[0]).abs_diff(src_rows[1] - src_rows[0]) <= 1,
+        "type height kept: {rows:?} against {src_rows:?}"
+    );
+    // Each lower panel's ticks stay evenly spaced (its plot one linear map).
+    let ay = 600 - 50 + 4;
+    for half in [[0u32, 200u32], [200, 400]] {
+        let t: Vec<f64> = runs_darker(&out, [ay, ay + 3], 1, 200)
+            .iter()
+            .filter(|r| r[0] >= half[0] && r[1] < half[1])
+            .map(|r| (r[0] + r[1] + 1) as f64 / 2.0)
+            .collect();
+        assert_eq!(t.len(), 5, "{half:?}: {t:?}");
+        let steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+        let spread = steps.iter().cloned().fold(f64::MIN, f64::max)
+            - steps.iter().cloned().fold(f64::MAX, f64::min);
+        assert!(spread <= 1.0, "{half:?}: {steps:?}");
+    }
+    // The old one map per axis for the whole picture could not lay it out.
+    let plain = retarget(&img, target, &Options::default().with_layout(false)).unwrap();
+    assert!(plain.stats.fitted.is_some());
+}

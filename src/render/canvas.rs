@@ -330,6 +330,14 @@ impl AxisMap {
         AxisMap { knots }
     }
 
+    /// Whether the map is one linear segment over source `[a, b]`.
+    pub(crate) fn is_linear_over(&self, a: f64, b: f64) -> bool {
+        let s = (self.apply(b) - self.apply(a)) / (b - a).max(1e-9);
+        (self.knots.windows(2))
+            .filter(|k| k[1][0] > a && k[0][0] < b)
+            .all(|k| (slope(k[0], k[1]) - s).abs() < 1e-6)
+    }
+
     /// Whether the map is one linear segment.
     pub fn is_linear(&self) -> bool {
         self.knots.len() == 2
@@ -363,6 +371,47 @@ impl AxisMap {
     pub fn slope(&self, x: f64) -> f64 {
         let (a, b) = self.segment(x, 0);
         slope(a, b)
+    }
+
+    /// This map moved by `by` along the source (`[0]`) and the output (`[1]`): a panel's map
+    /// laid out on its own, placed where the panel and its slot stand.
+    pub(crate) fn moved(&self, by: [f64; 2]) -> AxisMap {
+        AxisMap {
+            knots: (self.knots.iter())
+                .map(|k| [k[0] + by[0], k[1] + by[1]])
+                .collect(),
+        }
+    }
+
+    /// The part of this map over source `[a, b]`, moved to start at `(0, 0)`: a panel's own
+    /// map, for resampling the panel alone.
+    pub(crate) fn within(&self, a: f64, b: f64) -> AxisMap {
+        let (ya, yb) = (self.apply(a), self.apply(b));
+        let mut knots = vec![[0.0, 0.0]];
+        knots.extend(
+            (self.knots.iter())
+                .filter(|k| k[0] > a && k[0] < b)
+                .map(|k| [k[0] - a, k[1] - ya]),
+        );
+        knots.push([b - a, (yb - ya).round()]);
+        AxisMap { knots }
+    }
+
+    /// This map with source positions `at` taken to whole output pixels (knots within a
+    /// pixel of them give way): panels cut there are drawn in slots of whole pixels.
+    pub(crate) fn snapped(&self, at: &[f64]) -> AxisMap {
+        let mut knots: Vec<[f64; 2]> = (self.knots.iter())
+            .filter(|k| at.iter().all(|&p| (k[0] - p).abs() >= 1.0))
+            .copied()
+            .chain(at.iter().map(|&p| [p, self.apply(p).round()]))
+            .collect();
+        knots.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        let mut high = f64::NEG_INFINITY;
+        for k in &mut knots {
+            k[1] = k[1].max(high);
+            high = k[1];
+        }
+        AxisMap { knots }
     }
 
     /// The least scale of any segment (how far the resampler's filter must reach).
@@ -425,11 +474,36 @@ fn slope(a: [f64; 2], b: [f64; 2]) -> f64 {
     }
 }
 
-/// The two axes' maps of a canvas taken whole.
+/// A panel's place on the target: its source rectangle, the slot it is drawn in (both
+/// `[x0, y0, x1, y1]`, half-open), and the maps of its axes (source to output positions,
+/// exact over the panel; the slot's ends are the maps' images of the panel's ends).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PanelMap {
+    pub src: [u32; 4],
+    pub slot: [u32; 4],
+    pub x: AxisMap,
+    pub y: AxisMap,
+}
+
+/// The panel of `panels` that holds source point `q` (the nearest where none does: a point
+/// on the picture's far edge).
+pub(crate) fn panel_at(panels: &[PanelMap], q: DVec2) -> Option<&PanelMap> {
+    let distance = |p: &PanelMap| {
+        let dx = (p.src[0] as f64 - q.x).max(q.x - p.src[2] as f64).max(0.0);
+        let dy = (p.src[1] as f64 - q.y).max(q.y - p.src[3] as f64).max(0.0);
+        dx + dy
+    };
+    (panels.iter()).min_by(|a, b| distance(a).total_cmp(&distance(b)))
+}
+
+/// The two axes' maps of a canvas taken whole; or, for a picture of panels, each panel's
+/// (`x` and `y` then the linear resize's, for what asks of the whole).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CanvasMap {
     pub x: AxisMap,
     pub y: AxisMap,
+    /// Each panel's place and maps ([`crate::render::panels`]); empty for one picture.
+    pub panels: Vec<PanelMap>,
 }
 
 impl CanvasMap {
@@ -438,6 +512,7 @@ impl CanvasMap {
         CanvasMap {
             x: AxisMap::linear(source.width, target.width),
             y: AxisMap::linear(source.height, target.height),
+            panels: Vec::new(),
         }
     }
 
@@ -518,18 +593,18 @@ impl CanvasMap {
         CanvasMap {
             x: laid_out(0, narrow(0, px, py, x)),
             y: laid_out(1, narrow(1, py, px, y)),
+            panels: Vec::new(),
         }
     }
 
     /// The affine map `[ax, bx, ay, by]` that agrees with this one around `p`.
     pub fn local(&self, p: DVec2) -> [f64; 4] {
-        let (sx, sy) = (self.x.slope(p.x), self.y.slope(p.y));
-        [
-            sx,
-            self.x.apply(p.x) - sx * p.x,
-            sy,
-            self.y.apply(p.y) - sy * p.y,
-        ]
+        let (x, y) = match panel_at(&self.panels, p) {
+            Some(panel) => (&panel.x, &panel.y),
+            None => (&self.x, &self.y),
+        };
+        let (sx, sy) = (x.slope(p.x), y.slope(p.y));
+        [sx, x.apply(p.x) - sx * p.x, sy, y.apply(p.y) - sy * p.y]
     }
 }
 

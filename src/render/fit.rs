@@ -37,7 +37,7 @@ impl Fit {
     /// `None` otherwise.
     pub fn of(map: &CanvasMap, src: ImageRef<'_>, target: Size) -> Option<Fit> {
         let source = src.size();
-        if !(map.x.is_linear() && map.y.is_linear()) {
+        if !(map.x.is_linear() && map.y.is_linear()) || !map.panels.is_empty() {
             return None;
         }
         let sx = target.width as f64 / source.width as f64;
@@ -184,6 +184,7 @@ mod tests {
         let bent = CanvasMap {
             x: AxisMap::with_bands(200, 100, &[[10, 40]], &[[0, 10], [40, 70]], &[[0, 10]]),
             y: AxisMap::linear(100, 100),
+            panels: Vec::new(),
         };
         assert!(!bent.x.is_linear());
         assert_eq!(Fit::of(&bent, src, target), None);

@@ -225,7 +225,10 @@ pub(crate) fn area_text_layout(
         dropped,
         ..
     } = room;
-    share_scale(text, &area_of, &mut scale);
+    // Text inside a plot (a label on a mark, a cell's value) is a role of its own: it does
+    // not share the size its axes' labels can keep.
+    let in_plot = |i: usize| st.bands.in_plot(&text[i]);
+    share_scale(text, &area_of, &mut scale, &in_plot);
     let refused = layout.all_or_none_on_canvas(&mut scale);
     let placements = (0..text.len())
         .map(|i| {
@@ -371,7 +374,12 @@ impl<'a> TextLayout<'a> {
             return None;
         }
         let [ax, _, ay, _] = self.map_of(i)?;
-        Some(ax.max(ay).min(1.0))
+        // Never wider or taller than the output: a title wider than the target at its size
+        // shrinks to fit, whole, rather than run off the edge.
+        let t = &self.text[i];
+        let (bw, bh) = ((t.x1 + 1 - t.x0) as f64, (t.y1 + 1 - t.y0) as f64);
+        let room = (self.size.0 / bw).min(self.size.1 / bh);
+        Some(ax.max(ay).min(1.0).min(room))
     }
 
     /// Whether block i drawn over `b` hides ink that is not text floating with it.
@@ -399,12 +407,17 @@ impl<'a> TextLayout<'a> {
     /// left stays under its tick. A legend's entries and a column of bar names are never
     /// thinned.
     fn thin(&self, movers: &[Mover], room: &mut Room) {
-        for mover in movers.iter().filter(|m| m.members.len() >= LEAST_TICKS) {
-            let row = mover.moves.iter().all(|d| d.x == 0.0);
+        // A row of labels across panels side by side is each panel's axis, thinned apart.
+        let rows = movers
+            .iter()
+            .filter(|m| m.moves.iter().all(|d| d.x == 0.0))
+            .flat_map(|m| self.by_panel(&m.members));
+        for members in rows.filter(|m| m.len() >= LEAST_TICKS) {
+            let row = true;
             // Only an x axis' labels: a column of labels beside a plot names its bars or
             // rows one by one (judged blind, a bar chart with every other name dropped came
             // last), and a legend's row stands apart from the plots.
-            if !row || !self.beside_a_plot(&mover.members, row) {
+            if !self.beside_a_plot(&members, row) {
                 continue;
             }
             let centre = |i: usize| {
@@ -414,7 +427,7 @@ impl<'a> TextLayout<'a> {
                     false => (t.y0 + t.y1) as f64 / 2.0,
                 }
             };
-            let mut kept: Vec<usize> = mover.members.clone();
+            let mut kept: Vec<usize> = members;
             kept.sort_by(|&a, &b| centre(a).total_cmp(&centre(b)));
             let steps: Vec<f64> = kept
                 .windows(2)
@@ -462,6 +475,26 @@ impl<'a> TextLayout<'a> {
                 kept = next;
             }
         }
+    }
+
+    /// `members` grouped by the panel their centres stand in ([`crate::structure::Panel`]),
+    /// in the order of the panels; all of them where the picture is one panel.
+    fn by_panel(&self, members: &[usize]) -> Vec<Vec<usize>> {
+        let Some(root) = &self.st.bands.panels else {
+            return vec![members.to_vec()];
+        };
+        let leaves = root.leaves();
+        let mut groups = vec![Vec::new(); leaves.len()];
+        for &i in members {
+            let t = &self.text[i];
+            let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
+            let k = leaves.iter().position(|l| {
+                cx >= l.rect[0] && cx < l.rect[2] && cy >= l.rect[1] && cy < l.rect[3]
+            });
+            groups[k.unwrap_or(0)].push(i);
+        }
+        groups.retain(|g| !g.is_empty());
+        groups
     }
 
     /// Whether the labels `members` (a row when `row`, else a column) stand along a plot's
@@ -579,8 +612,19 @@ impl<'a> TextLayout<'a> {
             (self.area_of(t))
                 .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
         };
+        // Text inside a plot that cannot float (a dot read as a glyph, a value on a busy
+        // cell) follows the plot's map alone: it is no part of the type around the plot.
+        let in_plot = |i: usize| self.st.bands.in_plot(&text[i]);
+        for (i, s) in scale.iter_mut().enumerate() {
+            if in_plot(i) && on_canvas(&text[i]) && s.is_some_and(|s| s < MIN_TEXT_FLOAT) {
+                *s = None;
+            }
+        }
         let refused = (0..text.len()).any(|i| {
-            self.words[i] && on_canvas(&text[i]) && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
+            self.words[i]
+                && !in_plot(i)
+                && on_canvas(&text[i])
+                && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
         });
         if refused {
             for (i, s) in scale.iter_mut().enumerate() {
@@ -629,12 +673,55 @@ fn movers(text: &[TextBlock], group: &[usize]) -> Vec<Mover> {
             (true, _, _) => vec![up, down, left, right],
             (false, true, _) => vec![up, down],
             (false, false, true) => vec![left, right],
-            _ => continue,
+            _ => {
+                // Aligned both ways (an x axis' labels and a y axis' meeting at a corner,
+                // or across panels): its rows move as rows, the rest as columns.
+                let (rows, rest) = lines_of(text, members, true);
+                let (columns, rest) = lines_of(text, rest, false);
+                movers.extend(rows.into_iter().map(|members| Mover {
+                    members,
+                    moves: vec![up, down],
+                }));
+                movers.extend(columns.into_iter().map(|members| Mover {
+                    members,
+                    moves: vec![left, right],
+                }));
+                movers.extend(rest.into_iter().map(|i| Mover {
+                    members: vec![i],
+                    moves: vec![up, down, left, right],
+                }));
+                continue;
+            }
         };
         movers.push(Mover { members, moves });
     }
     movers.sort_by_key(|m| m.members.len() > 1);
     movers
+}
+
+/// The rows (`rows`) or columns of `members` with two blocks or more (blocks that overlap
+/// each other across the line, all of them), and the blocks in none.
+fn lines_of(text: &[TextBlock], members: Vec<usize>, rows: bool) -> (Vec<Vec<usize>>, Vec<usize>) {
+    let across = |i: usize| match rows {
+        true => [text[i].y0, text[i].y1],
+        false => [text[i].x0, text[i].x1],
+    };
+    let mut lines: Vec<Vec<usize>> = Vec::new();
+    for i in members {
+        let [a0, a1] = across(i);
+        let line = lines.iter_mut().find(|l| {
+            l.iter().all(|&j| {
+                let [b0, b1] = across(j);
+                a0 < b1 && b0 < a1
+            })
+        });
+        match line {
+            Some(l) => l.push(i),
+            None => lines.push(vec![i]),
+        }
+    }
+    let (lines, single): (Vec<_>, Vec<_>) = lines.into_iter().partition(|l| l.len() >= 2);
+    (lines, single.into_iter().flatten().collect())
 }
 
 /// Block i's anchor along x: 0 left, 0.5 centre, 1 right. A column is aligned by the edge
@@ -705,17 +792,20 @@ fn share_scale(
     text: &[TextBlock],
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
     scale: &mut [Option<f64>],
+    in_plot: &impl Fn(usize) -> bool,
 ) {
     let group = type_groups(text, area_of, scale, Alignment::Centres);
-    let mut least = vec![f64::INFINITY; text.len()];
+    let n = text.len();
+    let key = |i: usize| group[i] + n * usize::from(in_plot(i));
+    let mut least = vec![f64::INFINITY; 2 * n];
     for (i, s) in scale.iter().enumerate() {
         if let Some(s) = *s {
-            least[group[i]] = least[group[i]].min(s);
+            least[key(i)] = least[key(i)].min(s);
         }
     }
     for (i, s) in scale.iter_mut().enumerate() {
         if s.is_some() {
-            *s = Some(least[group[i]]);
+            *s = Some(least[key(i)]);
         }
     }
 }
@@ -1972,7 +2062,7 @@ mod tests {
         ];
         let area_of = |_: &TextBlock| Some(0);
         let mut scale = [0.81, 0.81, 1.0, 1.0, 1.0, 0.9, 0.81, 0.7, 1.0].map(Some);
-        share_scale(&text, &area_of, &mut scale);
+        share_scale(&text, &area_of, &mut scale, &|_| false);
         assert!(scale[..4].iter().all(|&s| s == Some(0.81)), "{scale:?}");
         assert!(scale[4..7].iter().all(|&s| s == Some(0.81)), "{scale:?}");
         // A label a line over a caption centred under it is another kind of text.
@@ -2466,6 +2556,7 @@ mod tests {
                 &[[0, 20]],
             ),
             y: crate::render::AxisMap::linear(100, 100),
+            panels: Vec::new(),
         };
         assert_eq!(band.local(DVec2::new(40.0, 45.0))[0], 1.0);
         let areas = [Some(HALF_WIDTH)];

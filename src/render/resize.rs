@@ -8,7 +8,7 @@
 //! (as this resize once did) drew every edge a shade softer than the linear resize a reader
 //! compares it with, and judged blind beside it, the softer copy lost the ties.
 
-use super::canvas::{AxisMap, CanvasMap};
+use super::canvas::{AxisMap, CanvasMap, PanelMap};
 use crate::image::{Image, ImageRef, Size};
 
 /// Catmull-Rom (B = 0, C = 1/2), support 2.
@@ -515,6 +515,9 @@ pub(crate) fn resize_mapped_on(
     map: &CanvasMap,
     threads: Threads,
 ) -> Image {
+    if !map.panels.is_empty() {
+        return resize_panels(src, target, &map.panels, threads);
+    }
     if map.x.is_linear() && map.y.is_linear() {
         return resize_linear_on(src, target, threads);
     }
@@ -578,6 +581,49 @@ fn resize_axes(
     out
 }
 
+/// `src` resampled onto `target` panel by panel, each in its slot by its own maps.
+pub(crate) fn resize_panels(
+    src: ImageRef<'_>,
+    target: Size,
+    panels: &[PanelMap],
+    threads: Threads,
+) -> Image {
+    let mut out = Image::new(target);
+    let w = src.width() as usize;
+    for p in panels {
+        let [x0, y0, x1, y1] = p.src;
+        let [sx0, sy0, sx1, sy1] = p.slot;
+        let (Ok(size), Ok(into)) = (Size::new(x1 - x0, y1 - y0), Size::new(sx1 - sx0, sy1 - sy0))
+        else {
+            continue;
+        };
+        let mut crop = Vec::with_capacity(size.width as usize * size.height as usize);
+        for row in src
+            .pixels()
+            .chunks_exact(w)
+            .skip(y0 as usize)
+            .take(size.height as usize)
+        {
+            crop.extend_from_slice(&row[x0 as usize..x1 as usize]);
+        }
+        let Some(crop) = Image::from_pixels(size, crop) else {
+            continue;
+        };
+        let map = CanvasMap {
+            x: p.x.within(x0 as f64, x1 as f64),
+            y: p.y.within(y0 as f64, y1 as f64),
+            panels: Vec::new(),
+        };
+        let drawn = resize_mapped_on(crop.as_ref(), into, &map, threads);
+        let tw = target.width as usize;
+        for (r, row) in drawn.pixels().chunks_exact(into.width as usize).enumerate() {
+            let at = (sy0 as usize + r) * tw + sx0 as usize;
+            out.pixels_mut()[at..at + row.len()].copy_from_slice(row);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -599,6 +645,7 @@ mod tests {
             // The gaps give the band just what it needs: the plot keeps the linear scale.
             x: AxisMap::with_bands(200, 100, &[[10, 40]], &[[0, 10], [40, 70]], &[[0, 10]]),
             y: AxisMap::linear(20, 20),
+            panels: Vec::new(),
         };
         let out = resize_mapped(img.as_ref(), target, &map);
         let at = map.x.apply(10.0) as u32;
@@ -685,6 +732,7 @@ mod tests {
                 [1.0, 1.0, 0.5],
             ),
             y: AxisMap::linear(40, 20),
+            panels: Vec::new(),
         };
         let out = resize_mapped(img.as_ref(), Size::new(100, 20).unwrap(), &map);
         let darkest = (0..100).min_by_key(|&x| out.get(x, 10)[0]).unwrap();

@@ -12,6 +12,7 @@
 //! any map along x. A block of text lends its columns to a band only when all of them are
 //! clean (a word is never kinked), and no band lies inside a data area found from its axes.
 
+use super::spans::merged;
 use super::text::ALIGNED_PX;
 use super::{DataArea, TextBlock};
 use crate::image::ImageRef;
@@ -54,6 +55,9 @@ pub struct Bands {
     /// type ([`crate::render::AxisMap::around_plots`]).
     pub type_x: Vec<[u32; 2]>,
     pub type_y: Vec<[u32; 2]>,
+    /// The panels the picture's plots stand in, where gutters split them apart
+    /// ([`super::panels`]): each is laid out on its own.
+    pub panels: Option<super::Panel>,
 }
 
 impl Bands {
@@ -77,6 +81,26 @@ impl Bands {
             blank_y: common(&self.blank_y, &before.blank_y),
             type_x: kept_plots(&self.type_x, &before.type_x),
             type_y: kept_plots(&self.type_y, &before.type_y),
+            panels: before.panels.clone().or_else(|| self.panels.clone()),
+        }
+    }
+}
+
+impl Bands {
+    /// Whether text block `t` stands inside a plot (its centre inside one of the plots'
+    /// rectangles: of its panel where the picture has panels, else across the plots' spans).
+    pub fn in_plot(&self, t: &super::TextBlock) -> bool {
+        let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
+        let inside = |spans: &[[u32; 2]], v: u32| spans.iter().any(|s| s[0] < v && v + 1 < s[1]);
+        match &self.panels {
+            Some(root) => root.leaves().iter().any(|l| {
+                let [x0, y0, x1, y1] = l.rect;
+                (x0..x1).contains(&cx)
+                    && (y0..y1).contains(&cy)
+                    && inside(&l.plots[0], cx)
+                    && inside(&l.plots[1], cy)
+            }),
+            None => inside(&self.plots_x, cx) && inside(&self.plots_y, cy),
         }
     }
 }
@@ -153,6 +177,7 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     bands.type_y = merged(text.iter().map(|t| [t.y0, (t.y1 + 1).min(h)]));
     bands.plots_x = around_text(spans_of(areas, w, true), text, |t| [t.x0, t.x1 + 1]);
     bands.plots_y = around_text(spans_of(areas, h, false), text, |t| [t.y0, t.y1 + 1]);
+    bands.panels = super::panels::detect(image, text, areas);
     if text.is_empty() {
         // Without text no part is kept (it holds no type) and the layout declines unless the
         // plots reach the edge's margins: those are its blank runs (not read again: a
@@ -161,20 +186,6 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         bands.blank_y = bands.gaps_y.clone();
     }
     bands
-}
-
-/// The half-open `spans`, sorted and merged where they touch or overlap.
-fn merged(spans: impl Iterator<Item = [u32; 2]>) -> Vec<[u32; 2]> {
-    let mut spans: Vec<[u32; 2]> = spans.filter(|s| s[0] < s[1]).collect();
-    spans.sort_unstable();
-    let mut out: Vec<[u32; 2]> = Vec::with_capacity(spans.len());
-    for s in spans {
-        match out.last_mut() {
-            Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
-            _ => out.push(s),
-        }
-    }
-    out
 }
 
 /// `plots` grown over every text block that straddles one of their ends (an axis' last tick

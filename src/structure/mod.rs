@@ -13,11 +13,14 @@ mod bands;
 mod lines;
 mod luma;
 mod mask;
+mod panels;
+mod spans;
 mod text;
 
 pub use areas::{AreaKind, DataArea};
 pub use bands::Bands;
 pub use lines::Line;
+pub use panels::{Panel, Split};
 pub use text::TextBlock;
 pub(crate) use text::ALIGNED_PX;
 

@@ -233,7 +233,7 @@ fn laid_out(
     target: crate::image::Size,
 ) -> (CanvasMap, Option<Placements>) {
     let structure = mesh.structure();
-    let map = CanvasMap::new(structure, mesh.size(), target);
+    let map = crate::render::canvas_map(structure, mesh.size(), target);
     let Some(st) = structure.filter(|s| !s.text.is_empty()) else {
         return (map, None);
     };
