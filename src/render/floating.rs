@@ -465,7 +465,7 @@ impl<'a> TextLayout<'a> {
         );
         let inside = match busy {
             true => in_x || in_y,
-            false => in_x && in_y,
+            false => b.within_plot(t),
         };
         self.words[i] && self.on_canvas(t) && inside && !self.kept_at_size(i)
     }

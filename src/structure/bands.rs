@@ -55,6 +55,8 @@ pub struct Bands {
     /// type ([`crate::render::AxisMap::around_plots`]).
     pub type_x: Vec<[u32; 2]>,
     pub type_y: Vec<[u32; 2]>,
+    /// The data areas' rectangles, `[x0, y0, x1, y1]` half-open: what is inside a plot.
+    pub plot_rects: Vec<[u32; 4]>,
     /// The panels the picture's plots stand in, where gutters split them apart
     /// ([`super::panels`]): each is laid out on its own.
     pub panels: Option<super::Panel>,
@@ -81,27 +83,29 @@ impl Bands {
             blank_y: common(&self.blank_y, &before.blank_y),
             type_x: kept_plots(&self.type_x, &before.type_x),
             type_y: kept_plots(&self.type_y, &before.type_y),
+            plot_rects: match before.plot_rects.is_empty() {
+                true => self.plot_rects.clone(),
+                false => before.plot_rects.clone(),
+            },
             panels: before.panels.clone().or_else(|| self.panels.clone()),
         }
     }
 }
 
 impl Bands {
-    /// Whether text block `t` stands inside a plot (its centre inside one of the plots'
-    /// rectangles: of its panel where the picture has panels, else across the plots' spans).
+    /// Whether text block `t` stands inside a plot: its centre inside a data area's
+    /// rectangle (a label on a mark, a cell's value; not the tick labels beside it).
     pub fn in_plot(&self, t: &super::TextBlock) -> bool {
         let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
-        let inside = |spans: &[[u32; 2]], v: u32| spans.iter().any(|s| s[0] < v && v + 1 < s[1]);
-        match &self.panels {
-            Some(root) => root.leaves().iter().any(|l| {
-                let [x0, y0, x1, y1] = l.rect;
-                (x0..x1).contains(&cx)
-                    && (y0..y1).contains(&cy)
-                    && inside(&l.plots[0], cx)
-                    && inside(&l.plots[1], cy)
-            }),
-            None => inside(&self.plots_x, cx) && inside(&self.plots_y, cy),
-        }
+        (self.plot_rects.iter()).any(|r| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy))
+    }
+
+    /// Whether text block `t` lies wholly inside a data area's rectangle (a pixel of
+    /// slack).
+    pub fn within_plot(&self, t: &super::TextBlock) -> bool {
+        (self.plot_rects.iter()).any(|r| {
+            t.x0 + 1 >= r[0] && t.x1 <= r[2] + 1 && t.y0 + 1 >= r[1] && t.y1 <= r[3] + 1
+        })
     }
 }
 
@@ -177,6 +181,12 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     bands.type_y = merged(text.iter().map(|t| [t.y0, (t.y1 + 1).min(h)]));
     bands.plots_x = around_text(spans_of(areas, w, true), text, |t| [t.x0, t.x1 + 1]);
     bands.plots_y = around_text(spans_of(areas, h, false), text, |t| [t.y0, t.y1 + 1]);
+    bands.plot_rects = (areas.iter())
+        .map(|a| {
+            let at = |v: f64, n: u32| (v.round().max(0.0) as u32).min(n);
+            [at(a.x0, w), at(a.y0, h), at(a.x1, w), at(a.y1, h)]
+        })
+        .collect();
     bands.panels = super::panels::detect(image, text, areas);
     if text.is_empty() {
         // Without text no part is kept (it holds no type) and the layout declines unless the
