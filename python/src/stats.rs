@@ -21,6 +21,8 @@ pub fn frame_stats<'py>(py: Python<'py>, s: &FrameStats) -> PyResult<Bound<'py, 
     d.set_item("updated_tiles", s.updated_tiles)?;
     d.set_item("data_areas", s.data_areas)?;
     d.set_item("floated", s.floated)?;
+    d.set_item("dropped", s.dropped)?;
+    d.set_item("panels", s.panels)?;
     d.set_item("fitted", s.fitted.map(|[x0, y0, x1, y1]| (x0, y0, x1, y1)))?;
     let t = &s.times;
     let ms = PyDict::new(py);

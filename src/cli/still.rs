@@ -154,7 +154,7 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
          vsm {:.1} ms, mesh {:.1} ms, solve {:.1} ms, render {:.1} ms, total {:.1} ms; \
          folds after first solve {}, repair rounds {}, untangled {}, blend {:.3}{}; \
          text blocks {} ({} held at their size), snapped to pixels {}{}; \
-         data areas {}, floating marks and text {}{}",
+         data areas {}, floating marks and text {}{}{}",
         input.display(),
         from,
         out.image.size(),
@@ -186,6 +186,12 @@ fn print_stats(input: &Path, from: Size, out: &Retargeted) {
         },
         s.data_areas,
         s.floated,
+        match (s.dropped, s.panels) {
+            (0, 0) => String::new(),
+            (d, 0) => format!(" ({d} tick labels thinned out)"),
+            (d, p) =>
+                format!(" ({d} tick labels thinned out); {p} panels laid out each in its slot"),
+        },
         match s.fitted {
             Some([x0, y0, x1, y1]) => format!(
                 "; drawn at one scale, {}x{} at ({x0}, {y0}), on its ground",

@@ -1820,6 +1820,11 @@ impl Floating {
         self.pastes.is_empty()
     }
 
+    /// How many are painted out and not drawn (tick labels thinned out).
+    pub fn dropped(&self) -> usize {
+        self.pastes.iter().filter(|p| p.dropped).count()
+    }
+
     /// Fills the floating marks' pixels of `image` (the source) from their surroundings, so
     /// the warp shows the ground under them. `scratch` is a reusable buffer, all clear
     /// between calls (cleared where it was set, not over the whole frame each time).

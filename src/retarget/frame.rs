@@ -70,6 +70,12 @@ pub struct FrameStats {
     /// Marks and text blocks drawn floating over the warp (a data area's, and a stream's
     /// marks that the kept mesh does not ring).
     pub floated: usize,
+    /// Of those, tick labels thinned out (painted out, not drawn), as an axis' locator drops
+    /// every other label where they would collide.
+    pub dropped: usize,
+    /// Panels laid out each in its own slot (a dashboard's, a figure's); 0 where the
+    /// picture is laid out as one.
+    pub panels: usize,
     /// Where the picture was drawn at one scale because nothing on its canvas gave way (see
     /// [`crate::Options::fill`]): the output rectangle `[x0, y0, x1, y1)` it fills, its ground
     /// around it. The analysis' warp still maps the canvas onto the whole target: a source

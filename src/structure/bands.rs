@@ -103,9 +103,8 @@ impl Bands {
     /// Whether text block `t` lies wholly inside a data area's rectangle (a pixel of
     /// slack).
     pub fn within_plot(&self, t: &super::TextBlock) -> bool {
-        (self.plot_rects.iter()).any(|r| {
-            t.x0 + 1 >= r[0] && t.x1 <= r[2] + 1 && t.y0 + 1 >= r[1] && t.y1 <= r[3] + 1
-        })
+        (self.plot_rects.iter())
+            .any(|r| t.x0 + 1 >= r[0] && t.x1 <= r[2] + 1 && t.y0 + 1 >= r[1] && t.y1 <= r[3] + 1)
     }
 }
 

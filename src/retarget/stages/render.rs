@@ -34,8 +34,11 @@ pub(crate) struct RenderStage {
     /// The source with floating marks painted out, and the mask buffer that paints them.
     painted: Option<Image>,
     scratch: Vec<bool>,
-    /// How many marks and text blocks the last frame drew floating.
+    /// How many marks and text blocks the last frame drew floating, and dropped.
     floated: usize,
+    dropped: usize,
+    /// Panels the last frame's canvas was laid out in.
+    panels: usize,
     /// Where the last frame was drawn at one scale ([`Fit`]), if it was.
     fitted: Option<[u32; 4]>,
     /// Fill the target where nothing gives way ([`Options::fill`]) instead of a [`Fit`].
@@ -67,6 +70,8 @@ impl RenderStage {
             painted: None,
             scratch: Vec::new(),
             floated: 0,
+            dropped: 0,
+            panels: 0,
             fitted: None,
             fill: options.fill,
             layout: options.layout,
@@ -99,8 +104,12 @@ impl RenderStage {
             image,
             marks,
             times,
-            self.floated,
-            self.fitted,
+            Drawn {
+                floated: self.floated,
+                dropped: self.dropped,
+                panels: self.panels,
+                fitted: self.fitted,
+            },
             self.keep_analysis,
         ))
     }
@@ -128,6 +137,7 @@ impl RenderStage {
             // already drawn (and a scaled mark blends its rim over what lies under it: twice
             // is not once).
             self.floated = p.floating.len();
+            self.dropped = p.floating.dropped();
             return p.image.clone();
         }
         // A canvas taken whole is drawn by one map per axis; where nothing on it gives way,
@@ -152,6 +162,10 @@ impl RenderStage {
         let fit = (canvas.as_ref())
             .filter(|_| !self.fill && !vector_marks)
             .and_then(|map| Fit::of(map, src.as_ref(), target));
+        self.panels = match fit {
+            Some(_) => 0,
+            None => canvas.as_ref().map_or(0, |c| c.panels.len()),
+        };
         self.fitted = fit.map(|f| {
             let [x, y] = f.at;
             [x, y, x + f.content.width, y + f.content.height]
@@ -199,6 +213,7 @@ impl RenderStage {
             floating.paste(src, &mut out);
         }
         self.floated = floating.len();
+        self.dropped = floating.dropped();
         // The copy goes into the last output's buffer where it fits: a fresh one would cost
         // its page faults every frame.
         let image = match self.prev.take() {
@@ -518,14 +533,21 @@ fn unchanged_triangles(pm: &Mesh, pw: &Warp, mesh: &Mesh, warp: &Warp) -> Vec<bo
         .collect()
 }
 
+/// What the render drew besides the warp, for a frame's statistics.
+struct Drawn {
+    floated: usize,
+    dropped: usize,
+    panels: usize,
+    fitted: Option<[u32; 4]>,
+}
+
 /// The output record of a frame.
 fn finish(
     m: WithWarp,
     image: Image,
     marks: Option<Arc<VectorLayer>>,
     times: StageTimes,
-    floated: usize,
-    fitted: Option<[u32; 4]>,
+    drawn: Drawn,
     keep_analysis: bool,
 ) -> Retargeted {
     let WithWarp {
@@ -550,8 +572,10 @@ fn finish(
         },
         frame_index: frame.frame_index,
         data_areas: mesh.structure().map_or(0, |s| s.areas.len()),
-        floated,
-        fitted,
+        floated: drawn.floated,
+        dropped: drawn.dropped,
+        panels: drawn.panels,
+        fitted: drawn.fitted,
     };
     let analysis = keep_analysis.then_some(Analysis {
         vsm: sal.vsm,
