@@ -157,10 +157,6 @@ const FLAT_GROUND: f64 = 0.9;
 /// The scale of a block that cannot float at all: it keeps a scale (rather than none) so
 /// that the labels aligned with it follow the map with it ([`share_scale`]).
 const CANNOT_FLOAT: f64 = 0.0;
-/// Least share of its size at which the map leaves a block that does not float without it
-/// refusing the layout ([`TextLayout::kept_near_size`]): about the step between two type
-/// sizes (10 and 11 points), which a reader does not tell apart across a chart.
-const NEAR_SIZE: f64 = 0.9;
 /// Least gap between two floating text blocks, output pixels.
 const TEXT_GAP_PX: f64 = 2.0;
 /// How far a block read alone (a title, an axis title) may step aside from where the map
@@ -210,18 +206,7 @@ pub(crate) fn area_text_layout(
     layout.thinning = thinning;
     let text = layout.text;
     let area_of = |t: &TextBlock| st.area_of(t);
-    let mut scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
-    // A word on a busy ground inside a plot (a cell's value, a label on a bar or a region)
-    // goes with the plot from the start: it has no say in how the other text floats, nor
-    // does it drag the labels aligned with it into the map.
-    let mut with_plot: Vec<bool> = (0..text.len())
-        .map(|i| scale[i] == Some(CANNOT_FLOAT) && layout.goes_with_plot(i, true))
-        .collect();
-    for (s, &w) in scale.iter_mut().zip(&with_plot) {
-        if w {
-            *s = None;
-        }
-    }
+    let scale: Vec<Option<f64>> = (0..text.len()).map(|i| layout.float_scale(i)).collect();
     let group = type_groups(text, &area_of, &scale, Alignment::Edges);
     let mut room = Room {
         scale,
@@ -244,42 +229,16 @@ pub(crate) fn area_text_layout(
     // not share the size its axes' labels can keep.
     let in_plot = |i: usize| st.bands.in_plot(&text[i]);
     share_scale(text, &area_of, &mut scale, &in_plot);
-    // A word inside a plot that cannot float at a legible size (it would cover the cell,
-    // bar or region it names, or its neighbours') goes with the plot too.
-    // Labels read together go together (one size for the role): the row or column of such a
-    // word goes with the plot as one, where every member can.
-    let group = type_groups(text, &area_of, &scale, Alignment::Centres);
-    let goes: Vec<bool> = (0..text.len())
-        .map(|i| scale[i].is_some() && layout.goes_with_plot(i, false))
-        .collect();
-    let least = |g: usize| {
-        (0..text.len())
-            .filter(|&j| group[j] == g)
-            .all(|j| goes[j])
-            .then_some(())
-    };
-    for i in 0..text.len() {
-        if scale[i].is_some_and(|s| s < MIN_TEXT_FLOAT) && goes[i] && least(group[i]).is_some() {
-            for j in (0..text.len()).filter(|&j| group[j] == group[i]) {
-                with_plot[j] = true;
-            }
-        }
-    }
-    for (s, &w) in scale.iter_mut().zip(&with_plot) {
-        if w {
-            *s = None;
-        }
-    }
-    let refused = layout.all_or_none_on_canvas(&mut scale, &with_plot);
+    let refused = layout.all_or_none_on_canvas(&mut scale);
     let placements = (0..text.len())
         .map(|i| {
             // A block the map already keeps at its size (a text band of a canvas) is drawn
             // where it stands by the resampler: floating it could only move it.
-            if layout.kept_at_size(i) {
+            if layout
+                .map_of(i)
+                .is_some_and(|[ax, _, ay, _]| (ax - 1.0).abs().max((ay - 1.0).abs()) < 1e-9)
+            {
                 return None;
-            }
-            if with_plot[i] && !refused {
-                return layout.with_plot(i);
             }
             let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
             let b = layout.placed(i, s, shift[i])?;
@@ -408,17 +367,15 @@ impl<'a> TextLayout<'a> {
         // its own squeezed copy. A block on a busy ground (a label on a map, in a treemap's
         // cell, the crossing of a heat map's separators) follows the map, and so does
         // every label of its size ([`share_scale`]).
-        // Ink of two colours is no word (a line through a marker, dots along an axis, a
-        // cell's corner): it has no say, on any ground.
+        if self.grounds[i].1 < FLAT_GROUND {
+            return Some(CANNOT_FLOAT);
+        }
         // Nor does text set sideways (a y axis' title): its letters are found in pieces
         // more often than upright text's, and a piece floated beside the rest left to the
         // map reads torn (judged blind: "F|req", "d isp"). It follows the map whole, which
         // keeps it at its size across the axis it stands beside.
         if !self.words[i] || self.text[i].sideways {
             return None;
-        }
-        if self.grounds[i].1 < FLAT_GROUND {
-            return Some(CANNOT_FLOAT);
         }
         let [ax, _, ay, _] = self.map_of(i)?;
         // Never wider or taller than the output: a title wider than the target at its size
@@ -433,68 +390,6 @@ impl<'a> TextLayout<'a> {
     fn covers(&self, i: usize, b: [f64; 4], floating: &[&TextBlock]) -> bool {
         let t = &self.text[i];
         covers_ink(self.src, t, self.grounds[i].0, b, self.map_of(i), floating)
-    }
-
-    /// Whether the map keeps block i at its size (a text band of a canvas).
-    fn kept_at_size(&self, i: usize) -> bool {
-        self.map_of(i)
-            .is_some_and(|[ax, _, ay, _]| (ax - 1.0).abs().max((ay - 1.0).abs()) < 1e-9)
-    }
-
-    /// Whether the map keeps block i near its size, within [`NEAR_SIZE`] along both axes:
-    /// left to the map it reads as type of the same size as the text that floats.
-    fn kept_near_size(&self, i: usize) -> bool {
-        self.map_of(i).is_some_and(|[ax, _, ay, _]| {
-            let (lo, hi) = (ax.min(ay), ax.max(ay));
-            lo >= NEAR_SIZE * hi && hi <= 1.0 / NEAR_SIZE && lo >= NEAR_SIZE
-        })
-    }
-
-    /// Whether word i stands inside a plot of a canvas taken whole (its box within the
-    /// columns and the rows the plots span, [`crate::structure::Bands`]) where the map does
-    /// not keep it at its size: a value in a cell, a label on a bar or a region, which names
-    /// what the plot's map carries and so goes with it ([`TextLayout::with_plot`]). A word on
-    /// a busy ground (`busy`) goes with the plot where its box lies within the plots' span
-    /// along one axis: the labels on a table's striped rows or columns name the plot's rows
-    /// or columns, on a ground the plot's map carries with them.
-    fn goes_with_plot(&self, i: usize, busy: bool) -> bool {
-        let t = &self.text[i];
-        let b = &self.st.bands;
-        let within = |spans: &[[u32; 2]], a: u32, e: u32| {
-            spans.iter().any(|p| a + 1 >= p[0] && e <= p[1] + 1)
-        };
-        let (in_x, in_y) = (
-            within(&b.plots_x, t.x0, t.x1),
-            within(&b.plots_y, t.y0, t.y1),
-        );
-        let inside = match busy {
-            true => in_x || in_y,
-            false => b.within_plot(t),
-        };
-        self.words[i] && self.on_canvas(t) && inside && !self.kept_at_size(i)
-    }
-
-    /// Where word i that goes with its plot is drawn: whole, at the plot's one scale for
-    /// text (the smaller of its map's two, at most 1: the largest at which its box stays
-    /// inside the box the map takes it to, so that it keeps its shape and covers nothing the
-    /// plot shows beside it), anchored where the map takes its anchor (a column of values
-    /// aligned by an edge keeps that edge, [`anchor`]). Every such word of one plot takes
-    /// the same scale, the plot's: one size for the role.
-    fn with_plot(&self, i: usize) -> Option<TextPlacement> {
-        let [ax, _, ay, _] = self.map_of(i)?;
-        let scale = ax.min(ay).min(1.0);
-        let b = self.placed(i, scale, DVec2::ZERO).filter(|_| scale > 0.0)?;
-        Some(TextPlacement {
-            centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
-            scale,
-            dropped: false,
-        })
-    }
-
-    /// Whether block `t` lies on a canvas taken whole.
-    fn on_canvas(&self, t: &TextBlock) -> bool {
-        (self.area_of(t))
-            .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
     }
 
     /// Whether block i over `bi` is in the way: it overlaps another block's box or covers
@@ -714,13 +609,15 @@ impl<'a> TextLayout<'a> {
     /// On a canvas taken whole, the text floats all of it or none: a title at its size over
     /// condensed labels reads worse than all of it condensed, and so do groups of blocks
     /// floating on their own beside condensed ones.
-    /// Words that go with their plot (`with_plot`), and words the map keeps at their size,
-    /// are neither: they leave the rest to float. Whether it was left to the map.
-    fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>], with_plot: &[bool]) -> bool {
+    /// Whether it was left to the map.
+    fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) -> bool {
         let text = self.text;
-        let on_canvas = |t: &TextBlock| self.on_canvas(t);
-        // Text inside a plot that still cannot float (a dot read as a glyph) follows the
-        // plot's map alone: it is no part of the type around the plot.
+        let on_canvas = |t: &TextBlock| {
+            (self.area_of(t))
+                .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
+        };
+        // Text inside a plot that cannot float (a dot read as a glyph, a value on a busy
+        // cell) follows the plot's map alone: it is no part of the type around the plot.
         let in_plot = |i: usize| self.st.bands.in_plot(&text[i]);
         for (i, s) in scale.iter_mut().enumerate() {
             if in_plot(i) && on_canvas(&text[i]) && s.is_some_and(|s| s < MIN_TEXT_FLOAT) {
@@ -729,11 +626,9 @@ impl<'a> TextLayout<'a> {
         }
         let refused = (0..text.len()).any(|i| {
             self.words[i]
-                && on_canvas(&text[i])
                 && !text[i].sideways
                 && !in_plot(i)
-                && !with_plot[i]
-                && !self.kept_near_size(i)
+                && on_canvas(&text[i])
                 && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
         });
         if refused {
@@ -1038,7 +933,8 @@ fn one_ink(src: &Image, t: &TextBlock, ground: [u8; 3]) -> bool {
 }
 
 /// Whether block `t` holds its words whole: no ink right beside its ends along its line
-/// (within [`WHOLE_REACH_PX`], across the middle half of the line). A block found in pieces
+/// (within [`WHOLE_REACH_PX`], across the middle half of the line), nor right above or
+/// below it (along its middle three quarters). A block found in pieces
 /// ("Chi" of "Child", a sideways title read in upright bits) floated at its own scale beside
 /// the rest left to the map reads torn (judged blind); such a piece follows the map with the
 /// rest of its word.
@@ -1064,7 +960,19 @@ fn whole(src: &Image, t: &TextBlock, ground: [u8; 3]) -> bool {
         .flat_map(|d| [lo.checked_sub(d), Some(hi + d).filter(|&v| v < n)])
         .flatten();
     let inked = |along: u32| (m0..m1).filter(|&a| at(along, a)).count() >= 2;
-    !beside.into_iter().any(inked)
+    // Across the line too: the letters of a word set the other way (a sideways title read
+    // as upright pieces) stand right above and below the piece.
+    let n_across = match t.sideways {
+        false => h,
+        true => w,
+    };
+    let eighth = (hi - lo) / 8;
+    let (l0, l1) = (lo + eighth, (hi - eighth).max(lo + eighth + 1));
+    let over = (1..=WHOLE_REACH_PX)
+        .flat_map(|d| [a0.checked_sub(d), Some(a1 + d).filter(|&v| v < n_across)])
+        .flatten();
+    let inked_across = |across: u32| (l0..l1).filter(|&l| at(l, across)).count() >= 2;
+    !beside.into_iter().any(inked) && !over.into_iter().any(inked_across)
 }
 
 /// How far beside a text block's ends its word may go on ([`whole`]), pixels: closer than
@@ -2153,6 +2061,41 @@ fn keep_inside(d: f64, lo: u32, hi: u32, side: u32) -> i64 {
 #[cfg(test)]
 mod tests {
 
+    /// A block holding a piece of a word (ink right after its end, or right above it: a
+    /// sideways word read in upright pieces) is not whole; one with clear ground around it is.
+    #[test]
+    fn a_piece_of_a_word_is_not_whole() {
+        let blank = || Image::filled(Size::new(80, 40).unwrap(), [255; 4]);
+        let ink = |img: &mut Image, x0: u32, x1: u32, y0: u32, y1: u32| {
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    img.set(x, y, [0, 0, 0, 255]);
+                }
+            }
+        };
+        let t = TextBlock {
+            x0: 20,
+            y0: 10,
+            x1: 40,
+            y1: 22,
+            line_height: 12,
+            sideways: false,
+        };
+        let mut word = blank();
+        ink(&mut word, 20, 24, 10, 23);
+        ink(&mut word, 30, 34, 10, 23);
+        assert!(whole(&word, &t, [255; 3]));
+        let mut cut = word.clone();
+        ink(&mut cut, 42, 46, 12, 20);
+        assert!(!whole(&cut, &t, [255; 3]), "the word goes on after its end");
+        let mut stacked = word.clone();
+        ink(&mut stacked, 24, 36, 24, 30);
+        assert!(!whole(&stacked, &t, [255; 3]), "letters right under it");
+        let mut apart = word;
+        ink(&mut apart, 46, 50, 12, 20);
+        assert!(whole(&apart, &t, [255; 3]), "the next word, a space away");
+    }
+
     /// A heading whose right end falls where a panel's right-aligned labels end, below it,
     /// stays centred; the labels keep their right edge.
     #[test]
@@ -2716,76 +2659,6 @@ mod tests {
         let p = area_text_placements(&img, &st, maps, Size::new(100, 100).unwrap());
         assert!(p[0].is_none(), "the block in the band floats: {:?}", p[0]);
         assert!(p[1].is_some(), "the block outside it does not float");
-    }
-
-    /// A heat map with a value in every cell, on a canvas taken whole at half width: the
-    /// values cannot float at their size (each would cover the cells beside it) and one
-    /// stands across two grey cells (a busy ground), yet the layout holds: the title beside the
-    /// plot keeps its size, and every value is drawn whole at the plot's one scale for
-    /// text, centred where the map takes its centre.
-    #[test]
-    fn values_in_a_heat_maps_cells_go_with_the_plot() {
-        let target = Size::new(100, 100).unwrap();
-        let mut img = Image::filled(Size::new(200, 100).unwrap(), [255; 4]);
-        let cell = |x: u32, y: u32| match ((x - 100) / 25 + (y - 20) / 20) % 2 {
-            0 => [150, 150, 150, 255],
-            _ => [210, 210, 210, 255],
-        };
-        for y in 20..100 {
-            for x in 100..200 {
-                img.set(x, y, cell(x, y));
-            }
-        }
-        let title = [10, 5, 80, 15];
-        // Values centred in their cells, and one across the boundary of two.
-        let values = [
-            [104, 24, 121, 36],
-            [129, 24, 146, 36],
-            [104, 44, 121, 56],
-            [138, 64, 158, 76],
-        ];
-        for &[x0, y0, x1, y1] in std::iter::once(&title).chain(&values) {
-            for y in y0 + 2..y1 - 2 {
-                for x in (x0 + 2..x1 - 2).step_by(3) {
-                    img.set(x, y, INK);
-                }
-            }
-        }
-        let mut st = Structure {
-            text: std::iter::once(&title)
-                .chain(&values)
-                .map(|&[x0, y0, x1, y1]| TextBlock::upright(x0, y0, x1, y1))
-                .collect(),
-            areas: vec![DataArea {
-                x0: 1.0,
-                y0: 1.0,
-                x1: 199.0,
-                y1: 99.0,
-                kind: AreaKind::Canvas,
-            }],
-            ..Structure::default()
-        };
-        st.bands.plots_x = vec![[100, 200]];
-        st.bands.plots_y = vec![[20, 100]];
-        let areas = [Some(HALF_WIDTH)];
-        let (p, refused) = area_text_layout(&img, &st, (&areas).into(), target, true);
-        assert!(!refused, "the layout holds: {p:?}");
-        assert_eq!(p[0].map(|p| p.scale), Some(1.0), "the title at its size");
-        for (k, v) in values.iter().enumerate() {
-            let q = p[k + 1].unwrap_or_else(|| panic!("value {k} is drawn whole: {p:?}"));
-            assert_eq!(q.scale, 0.5, "value {k} at the plot's one scale");
-            let centre = DVec2::new((v[0] + v[2]) as f64 / 4.0, (v[1] + v[3]) as f64 / 2.0);
-            assert!(
-                q.centre.distance(centre) < 1e-9,
-                "value {k} where the map takes it"
-            );
-            assert!(!q.dropped);
-        }
-
-        // Outside the plots the same values leave the text to the map, all of it.
-        st.bands = Default::default();
-        let (p, refused) = area_text_layout(&img, &st, (&areas).into(), target, true);
-        assert!(refused && p.iter().all(Option::is_none), "{p:?}");
     }
 
     #[test]

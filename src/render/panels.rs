@@ -23,6 +23,18 @@ pub(crate) fn canvas_map(structure: Option<&Structure>, source: Size, target: Si
 /// The map of the panels of `root` from `source` onto `target`; `None` where every panel
 /// would be drawn as the linear resize draws it (nothing to lay out).
 pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<CanvasMap> {
+    // A panel that lays itself out along an axis that shrinks, whose drawn content outside
+    // its plots outweighs its type (a map, a picture, a table not found as plots), would be
+    // squeezed as no part of a chart is: the picture is then not laid out by panels at all
+    // (judged blind, a squeezed county map, sprite field or table lost to the letterbox).
+    let shrinks = [target.width < source.width, target.height < source.height];
+    if root
+        .leaves()
+        .iter()
+        .any(|l| (0..2).any(|k| shrinks[k] && untyped(l, k)))
+    {
+        return None;
+    }
     let mut panels = Vec::new();
     lay(
         root,
@@ -77,6 +89,27 @@ fn lay(p: &Panel, slot: [u32; 4], given: [Option<AxisMap>; 2], out: &mut Vec<Pan
         lay(c, s, g, out);
     }
 }
+
+/// Whether panel `p`'s drawn content along axis `k` outside its plots and blank runs
+/// outweighs its type there.
+fn untyped(p: &Panel, k: usize) -> bool {
+    let (a, b) = (p.rect[k], p.rect[k + 2]);
+    let covered = |spans: &[[u32; 2]]| -> u32 {
+        (spans.iter())
+            .map(|s| s[1].min(b).saturating_sub(s[0].max(a)))
+            .sum()
+    };
+    let (plots, blank, typed) = (
+        covered(&p.plots[k]),
+        covered(&p.blank[k]),
+        covered(&p.type_spans[k]),
+    );
+    let drawn = (b - a).saturating_sub(plots + blank + typed);
+    drawn > typed && drawn as f64 >= LEAST_DRAWN_PX
+}
+
+/// Least drawn content, pixels, for a panel to be more than frames and rules.
+const LEAST_DRAWN_PX: f64 = 8.0;
 
 /// Panel `p`'s own map along axis `k` onto its `slot`: its plots take the room its parts
 /// leave ([`AxisMap::around_plots`]), in picture coordinates.

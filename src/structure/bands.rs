@@ -55,7 +55,9 @@ pub struct Bands {
     /// type ([`crate::render::AxisMap::around_plots`]).
     pub type_x: Vec<[u32; 2]>,
     pub type_y: Vec<[u32; 2]>,
-    /// The data areas' rectangles, `[x0, y0, x1, y1]` half-open: what is inside a plot.
+    /// The rectangles, `[x0, y0, x1, y1]` half-open, of the data areas whose edges are
+    /// labelled as an axis' are ([`super::panels::labelled`]): what is inside a plot (a
+    /// card's frame around a table or a map is no plot its text is inside of).
     pub plot_rects: Vec<[u32; 4]>,
     /// The panels the picture's plots stand in, where gutters split them apart
     /// ([`super::panels`]): each is laid out on its own.
@@ -93,18 +95,11 @@ impl Bands {
 }
 
 impl Bands {
-    /// Whether text block `t` stands inside a plot: its centre inside a data area's
-    /// rectangle (a label on a mark, a cell's value; not the tick labels beside it).
+    /// Whether text block `t` stands inside a plot: its centre inside a labelled data
+    /// area's rectangle (a label on a mark, a cell's value; not the tick labels beside it).
     pub fn in_plot(&self, t: &super::TextBlock) -> bool {
         let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
         (self.plot_rects.iter()).any(|r| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy))
-    }
-
-    /// Whether text block `t` lies wholly inside a data area's rectangle (a pixel of
-    /// slack).
-    pub fn within_plot(&self, t: &super::TextBlock) -> bool {
-        (self.plot_rects.iter())
-            .any(|r| t.x0 + 1 >= r[0] && t.x1 <= r[2] + 1 && t.y0 + 1 >= r[1] && t.y1 <= r[3] + 1)
     }
 }
 
@@ -185,6 +180,7 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
             let at = |v: f64, n: u32| (v.round().max(0.0) as u32).min(n);
             [at(a.x0, w), at(a.y0, h), at(a.x1, w), at(a.y1, h)]
         })
+        .filter(|&r| super::panels::labelled(r, text))
         .collect();
     bands.panels = super::panels::detect(image, text, areas);
     if text.is_empty() {

@@ -69,8 +69,11 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
             let hi = |v: f64, n: u32| (v.ceil().max(0.0) as u32).min(n);
             [lo(a.x0, w), lo(a.y0, h), hi(a.x1, w), hi(a.y1, h)]
         })
-        .filter(|r| r[0] < r[2] && r[1] < r[3])
+        .filter(|r| r[0] < r[2] && r[1] < r[3] && labelled(*r, text))
         .collect();
+    if rects.len() < 2 {
+        return None;
+    }
     let root = panel(image, text, &rects, [0, 0, w, h], 0);
     // Two panels with plots at least: else the picture's own layout is its one plot's.
     let plotted = root
@@ -80,6 +83,33 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         .count();
     (plotted >= 2).then_some(root)
 }
+
+/// Whether the data area `r` is a plot read off an axis: at least [`LEAST_TICK_LABELS`]
+/// text blocks stand just outside its left or its bottom edge, beside it. A card's frame
+/// around a map, a table or a picture is found as an area too, but nothing labels its
+/// edges; laid out as a plot, its content would be squeezed (judged blind: a county map, a
+/// table, a field of sprites squeezed lost to the letterbox).
+pub(super) fn labelled(r: [u32; 4], text: &[TextBlock]) -> bool {
+    let reach = |t: &TextBlock| TICK_REACH_LINES * t.line_height.max(1);
+    let left = (text.iter())
+        .filter(|t| {
+            let cy = (t.y0 + t.y1) / 2;
+            t.x1 <= r[0] + 2 && t.x1 + reach(t) >= r[0] && (r[1]..r[3]).contains(&cy)
+        })
+        .count();
+    let below = (text.iter())
+        .filter(|t| {
+            let cx = (t.x0 + t.x1) / 2;
+            t.y0 + 2 >= r[3] && t.y0 <= r[3] + reach(t) && (r[0]..r[2]).contains(&cx)
+        })
+        .count();
+    left.max(below) >= LEAST_TICK_LABELS
+}
+
+/// Least tick labels along an edge for an area to be a plot ([`labelled`]).
+const LEAST_TICK_LABELS: usize = 2;
+/// How far outside a plot's edge its tick labels stand, in line heights.
+const TICK_REACH_LINES: u32 = 3;
 
 /// The panel of `rect` and, where a gutter between its plots splits it, its parts.
 fn panel(
@@ -291,6 +321,24 @@ mod tests {
         }
     }
 
+    /// Two tick labels just left of `a`'s left edge, as a y axis' labels stand.
+    fn ticks(a: &DataArea) -> [TextBlock; 2] {
+        let (x1, y) = (a.x0 as u32 - 4, a.y0 as u32);
+        let label = |y0: u32| TextBlock {
+            x0: x1 - 14,
+            y0,
+            x1,
+            y1: y0 + 9,
+            line_height: 9,
+            sideways: false,
+        };
+        [label(y + 5), label(y + 40)]
+    }
+
+    fn ticked(areas: &[DataArea]) -> Vec<TextBlock> {
+        areas.iter().flat_map(ticks).collect()
+    }
+
     fn fill(img: &mut Image, r: [u32; 4], c: [u8; 4]) {
         for y in r[1]..r[3] {
             for x in r[0]..r[2] {
@@ -316,7 +364,7 @@ mod tests {
             area(30.0, 170.0, 180.0, 280.0),
             area(230.0, 170.0, 380.0, 280.0),
         ];
-        let p = detect(img.as_ref(), &[], &areas).expect("panels");
+        let p = detect(img.as_ref(), &ticked(&areas), &areas).expect("panels");
         let s = p.split.as_ref().unwrap();
         assert!(!s.columns, "rows first");
         assert_eq!(s.parts.len(), 2);
@@ -348,8 +396,8 @@ mod tests {
     fn a_cut_crosses_no_word() {
         let img = Image::filled(Size::new(400, 200).unwrap(), [255; 4]);
         let areas = [
-            area(10.0, 40.0, 180.0, 190.0),
-            area(220.0, 40.0, 390.0, 190.0),
+            area(30.0, 40.0, 180.0, 190.0),
+            area(240.0, 40.0, 390.0, 190.0),
         ];
         let title = TextBlock {
             x0: 150,
@@ -359,7 +407,21 @@ mod tests {
             line_height: 15,
             sideways: false,
         };
-        assert!(detect(img.as_ref(), &[title], &areas).is_none());
-        assert!(detect(img.as_ref(), &[], &areas).is_some());
+        let mut text = ticked(&areas);
+        assert!(detect(img.as_ref(), &text, &areas).is_some());
+        text.push(title);
+        assert!(detect(img.as_ref(), &text, &areas).is_none());
+    }
+
+    /// A frame nothing labels (a card around a map or a table) is no plot to split by.
+    #[test]
+    fn an_unlabelled_frame_is_no_plot() {
+        let img = Image::filled(Size::new(400, 200).unwrap(), [255; 4]);
+        let areas = [
+            area(30.0, 40.0, 180.0, 190.0),
+            area(240.0, 40.0, 390.0, 190.0),
+        ];
+        assert!(detect(img.as_ref(), &ticked(&areas[..1]), &areas).is_none());
+        assert!(detect(img.as_ref(), &ticked(&areas), &areas).is_some());
     }
 }
