@@ -21,6 +21,19 @@ use std::path::PathBuf;
 use vizretarget::compare::{compare as compare_methods, SheetOptions};
 use vizretarget::{retarget_with, Frame, Method, Retargeter};
 
+/// The extension's own allocations (the library's, not Python's) go to mimalloc. A still
+/// needs some 15 to 25 MB of working memory, all freed when the call returns; glibc's malloc
+/// gave it back to the kernel at once (its heap top trimmed, its large blocks unmapped, a
+/// thread arena's pages dropped), so every call page-faulted it in again: about 4,000 faults
+/// and 9 to 11 ms of system time a 1237×744 still, on 15 ms of work (2026-12-07, perf and
+/// getrusage). The command line's stream never paid it (its frames overlap on its stage
+/// threads). mimalloc keeps freed memory for a second before it returns it (its
+/// `purge_delay`), so calls in a batch reuse it: 17 to 100 faults a still, and its faster
+/// small allocations took user time from 15 to 10 ms a still. `local_dynamic_tls`: the
+/// extension is a library Python loads with dlopen.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// `(array, stats)`: `image` (an `H×W×3` or `H×W×4` uint8 array) retargeted to `size`.
 #[pyfunction]
 #[pyo3(signature = (image, size, options=None))]
