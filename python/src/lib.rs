@@ -128,16 +128,18 @@ fn retarget_file<'py>(
     Ok(d)
 }
 
-/// Milliseconds of each of `repeat` calls of the library's own `vizretarget::retarget` on
-/// `image` (default options), timed in Rust: what `benches/python_overhead.py` compares the
-/// package's call with.
+/// `(wall_ms, stages_ms)` of each of `repeat` calls of the library's own
+/// `vizretarget::retarget` on `image` (default options), timed in Rust: what
+/// `benches/python_overhead.py` compares the package's call with. `stages_ms` is the
+/// frame's own stage total (`FrameStats::times`), which the bench subtracts to take the
+/// machine's load out of the comparison.
 #[pyfunction]
 fn _library_ms(
     py: Python<'_>,
     image: &Bound<'_, PyAny>,
     size: &Bound<'_, PyAny>,
     repeat: usize,
-) -> PyResult<Vec<f64>> {
+) -> PyResult<Vec<(f64, f64)>> {
     let p = picture(image, "image")?;
     let target = options::resolve(&options::target(size)?, p.image.size())?;
     let opts = vizretarget::Options::default();
@@ -147,10 +149,11 @@ fn _library_ms(
                 let start = std::time::Instant::now();
                 let out = vizretarget::retarget(&p.image, target, &opts)?;
                 let ms = start.elapsed().as_secs_f64() * 1e3;
+                let stages = out.stats.times.total_ms();
                 drop(out);
-                Ok(ms)
+                Ok((ms, stages))
             })
-            .collect::<Result<Vec<f64>, vizretarget::Error>>()
+            .collect::<Result<Vec<_>, vizretarget::Error>>()
     })
     .map_err(to_py)
 }
