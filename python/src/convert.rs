@@ -166,4 +166,3 @@ impl Packed {
         Ok(a.into_pyarray(py))
     }
 }
-

@@ -119,6 +119,35 @@ fn retarget_file<'py>(
     let given = Given::new(options, &[STILL, REUSE, FILES])?;
     let job = files::Job::new(src, dst, options::target(size)?, &given)?;
     let done = py.detach(|| files::run(&job))?;
+    done_dict(py, &done)
+}
+
+/// [`retarget_file`] for each `(src, dst)` of `pairs`, in order, the writing of each picture
+/// overlapping the work on the next; returns one dict each.
+#[pyfunction]
+#[pyo3(signature = (pairs, size, options=None))]
+fn retarget_files<'py>(
+    py: Python<'py>,
+    pairs: Vec<(PathBuf, PathBuf)>,
+    size: &Bound<'py, PyAny>,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let given = Given::new(options, &[STILL, REUSE, FILES])?;
+    let target = options::target(size)?;
+    // The options read once, for every pair.
+    let mut jobs: Vec<files::Job> = Vec::with_capacity(pairs.len());
+    for (src, dst) in pairs {
+        let job = match jobs.first() {
+            None => files::Job::new(src, dst, target, &given)?,
+            Some(first) => first.with_paths(src, dst)?,
+        };
+        jobs.push(job);
+    }
+    let done = py.detach(|| files::run_all(&jobs))?;
+    done.iter().map(|d| done_dict(py, d)).collect()
+}
+
+fn done_dict<'py>(py: Python<'py>, done: &files::Done) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("frames", done.frames)?;
     d.set_item("reused", done.reused)?;
@@ -164,6 +193,7 @@ fn _vizretarget(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(retarget, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(retarget_file, m)?)?;
+    m.add_function(wrap_pyfunction!(retarget_files, m)?)?;
     m.add_function(wrap_pyfunction!(_library_ms, m)?)?;
     m.add_class::<stream::NativeRetargeter>()?;
     Ok(())
