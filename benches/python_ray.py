@@ -1,20 +1,32 @@
 """200 stills through Ray Data on 2 CPUs against two command-line processes in parallel.
 
-    python benches/python_ray.py [--cli target/release/vizretarget] [--size 360x640]
+    python benches/python_ray.py [--cli target/release/vizretarget] [--size 360x640] [--runs 3]
 
-Makes 200 stills (1237x744 unless --still says) from the sample streams (each frame,
-mirrored or not, shuffled so that neighbours differ), then times (1) two `vizretarget DIR -o OUT/` processes at once,
-100 stills each, and (2) `examples/python/ray_batch.py`'s `run` on a local Ray with 2 CPUs,
-one `retarget_file` call per still. Ray's start-up (`ray.init`) is apart; the first Ray run
-also starts its workers, so it is reported as cold, the next ones as warm. The issue's
-target: Ray within 1.3x of the two processes.
+Makes 200 stills (1237x744 unless --still says) from the sample streams (a window of each
+frame, mirrored or not, shuffled so that neighbours differ), then times (1) two
+`vizretarget DIR -o OUT/` processes at once, 100 stills each, and (2)
+`examples/python/ray_batch.py`'s `run` on a local Ray with 2 CPUs, one `retarget_files` call
+per batch (of 50 unless --batch-size says: Ray Data costs some 40 ms of wall time a batch
+here, measured with a batch function that does nothing, 0.85 s over 200 items in batches of
+10, 0.43 s in batches of 50). Ray's start-up (`ray.init`) is apart; the first Ray run also starts its workers,
+so it is reported as cold, the next ones as warm. The warm runs and the command line's take
+turns (which goes first alternating), so that both see the same load of a shared machine;
+each pair gives a ratio. The CPU time each side used is reported too (the command lines';
+Ray's processes' and this one's, where Ray's psutil is there): on a machine others share, a
+side's wall time depends on how many threads it has runnable, its CPU time much less.
+The issue's target: Ray within 1.3x of the two processes.
+
+Then checks that Ray's files are the command line's for each picture alone (a few of them:
+the folder stream of (1) carries a layout from one frame to the next, so its files are not).
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import random
+import resource
 import shutil
 import subprocess
 import tempfile
@@ -51,12 +63,38 @@ def make_stills(folder: Path, size: tuple[int, int], n: int = 200) -> list[Path]
     return paths
 
 
+def children_cpu() -> float:
+    """CPU seconds of this process' finished children (the command lines)."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def ray_cpu() -> float:
+    """CPU seconds so far of this process and Ray's (workers, raylet, GCS): NaN without
+    psutil (Ray ships one, importable once `ray` is)."""
+    try:
+        import psutil
+    except ImportError:
+        return float("nan")
+    total = 0.0
+    for p in psutil.process_iter():
+        try:
+            if p.pid == os.getpid() or "ray" in " ".join(p.cmdline()):
+                t = p.cpu_times()
+                total += t.user + t.system
+        except (psutil.Error, OSError):
+            pass
+    return total
+
+
 def main() -> None:
     p = argparse.ArgumentParser()
     p.add_argument("--cli", default=str(REPO / "target" / "release" / "vizretarget"))
     p.add_argument("--size", default="360x640")
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--still", default="1237x744", help="size of the stills, WxH")
+    p.add_argument("--batch-size", type=int, default=50, help="stills per Ray task")
+    p.add_argument("--check", type=int, default=10, help="Ray's files compared with the command line's")
     a = p.parse_args()
     work = Path(tempfile.mkdtemp(prefix="vizretarget-ray-"))
     try:
@@ -67,8 +105,9 @@ def main() -> None:
             h.mkdir()
             for s in stills[k::2]:
                 shutil.copy(s, h / s.name)
-        cli_times = []
-        for r in range(a.runs):
+
+        def cli_run(r: int) -> float:
+            c = children_cpu()
             t = time.perf_counter()
             procs = [
                 subprocess.Popen(
@@ -78,37 +117,64 @@ def main() -> None:
                 for h in halves
             ]
             assert all(pr.wait() == 0 for pr in procs)
-            cli_times.append(time.perf_counter() - t)
+            wall = time.perf_counter() - t
+            cli_cpu.append(children_cpu() - c)
+            return wall
 
+        cli_cpu: list[float] = []
+        ray_cpus: list[float] = []
         spec = importlib.util.spec_from_file_location("ray_batch", REPO / "examples" / "python" / "ray_batch.py")
         ray_batch = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(ray_batch)
         import ray
 
+        def ray_run(r: int) -> float:
+            c = ray_cpu()
+            t = time.perf_counter()
+            rows = ray_batch.run(str(work / "all"), str(work / f"ray-{r}"), [a.size], batch_size=a.batch_size)
+            assert len(rows) == len(stills)
+            wall = time.perf_counter() - t
+            ray_cpus.append(ray_cpu() - c)
+            return wall
+
         t = time.perf_counter()
         ray.init(num_cpus=2, log_to_driver=False)
         ray.data.DataContext.get_current().enable_progress_bars = False
         startup = time.perf_counter() - t
-        ray_times = []
-        for r in range(a.runs + 1):
-            t = time.perf_counter()
-            rows = ray_batch.run(str(work / "all"), str(work / f"ray-{r}"), [a.size], batch_size=10)
-            ray_times.append(time.perf_counter() - t)
-            assert len(rows) == len(stills)
+        cold_cli = cli_run(0)
+        cold_ray = ray_run(0)
+        cli_times, ray_times = [], []
+        for r in range(1, a.runs + 1):
+            if r % 2:
+                cli_times.append(cli_run(r))
+                ray_times.append(ray_run(r))
+            else:
+                ray_times.append(ray_run(r))
+                cli_times.append(cli_run(r))
         ray.shutdown()
-        best_cli = min(cli_times)
         import json
+        import statistics
 
         decisions: dict[str, int] = {}
         for h in halves:
             for f in json.loads((work / f"cli-0-{h.name}.json").read_text())["frames"]:
                 decisions[f["decision"]] = decisions.get(f["decision"], 0) + 1
-        print(f"200 stills {a.still} -> {a.size}, 2 CPUs (s):")
-        print(f"  two CLI processes, 100 each: {', '.join(f'{x:.2f}' for x in cli_times)} ({decisions})")
+        # Ray's files against the command line's for each picture alone.
+        for s in stills[:: len(stills) // a.check]:
+            alone = work / f"alone-{s.name}"
+            subprocess.run([a.cli, str(s), "--size", a.size, "-o", str(alone), "-q"], check=True)
+            assert (work / "ray-0" / ray_batch.size_dir(a.size) / s.name).read_bytes() == alone.read_bytes(), s.name
+        ratios = [x / y for x, y in zip(ray_times, cli_times)]
+        print(f"200 stills {a.still} -> {a.size}, 2 CPUs, batches of {a.batch_size} (s):")
+        print(f"  two CLI processes, 100 each: first {cold_cli:.2f}, then {', '.join(f'{x:.2f}' for x in cli_times)} ({decisions})")
         print(f"  Ray start-up (ray.init, apart): {startup:.2f}")
-        print(f"  Ray Data, cold (starts its workers): {ray_times[0]:.2f}")
-        print(f"  Ray Data, warm: {', '.join(f'{x:.2f}' for x in ray_times[1:])}")
-        print(f"  ratio Ray / CLI (best of each): cold {ray_times[0] / best_cli:.2f}, warm {min(ray_times[1:]) / best_cli:.2f}")
+        print(f"  Ray Data, cold (starts its workers): {cold_ray:.2f} ({cold_ray / cold_cli:.2f}x the CLI run before it)")
+        print(f"  Ray Data, warm, in turn with the CLI: {', '.join(f'{x:.2f}' for x in ray_times)}")
+        print(f"  ratio Ray / CLI, warm: pairs {', '.join(f'{x:.2f}' for x in ratios)}; median {statistics.median(ratios):.2f}; best of each {min(ray_times) / min(cli_times):.2f}")
+        if ray_cpus[0] == ray_cpus[0]:  # psutil was there
+            cpu = [x / y for x, y in zip(ray_cpus[1:], cli_cpu[1:])]
+            print(f"  CPU time, warm (s): CLI {', '.join(f'{x:.2f}' for x in cli_cpu[1:])}; Ray (its processes and this one) {', '.join(f'{x:.2f}' for x in ray_cpus[1:])}; ratio median {statistics.median(cpu):.2f}")
+        print(f"  Ray's files = the command line's for each picture alone: {len(stills[:: len(stills) // a.check])} checked")
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

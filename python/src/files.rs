@@ -1,7 +1,7 @@
-//! `retarget_file`: whatever the command line reads and writes (a still, an animated GIF, a
-//! folder of frames; PNG, JPEG, WebP, GIF, a folder), through the library's `io` and
-//! `Pipeline` as the command line drives them: a picture by `retarget`, anything with more
-//! frames by the threaded pipeline with its reuse. Standard input and output (`-`) are the
+//! `retarget_file` and `retarget_files`: whatever the command line reads and writes (a
+//! still, an animated GIF, a folder of frames; PNG, JPEG, WebP, GIF, a folder), through the
+//! library's `io` and `Pipeline` as the command line drives them: a picture by
+//! `Retargeter`, anything with more frames by the threaded pipeline with its reuse. Standard input and output (`-`) are the
 //! command line's business and are refused here.
 
 use crate::errors::{bad, to_py};
@@ -16,9 +16,12 @@ use vizretarget::io::{
     Magic, MarkedSource, OutputChoice, OutputFormat, SinkFormat, SinkOptions,
 };
 use vizretarget::stream::{FrameSource, NoProgress};
-use vizretarget::{retarget, retarget_with, Error, Limits, Method, Options, Pipeline, Target};
+use vizretarget::{
+    retarget_with, Error, Frame, Limits, Method, Options, Pipeline, Retargeter, Target,
+};
 
 /// Everything a file job needs, read from Python before the GIL is released.
+#[derive(Clone)]
 pub struct Job {
     pub src: PathBuf,
     pub dst: PathBuf,
@@ -32,11 +35,7 @@ pub struct Job {
 
 impl Job {
     pub fn new(src: PathBuf, dst: PathBuf, target: Target, given: &Given<'_>) -> PyResult<Job> {
-        if is_std(&src) || is_std(&dst) {
-            return Err(PyValueError::new_err(
-                "'-' (standard input or output) is for the command line: give file or folder paths",
-            ));
-        }
+        check_paths(&src, &dst)?;
         let opts = options::options(given)?;
         Ok(Job {
             src,
@@ -49,6 +48,25 @@ impl Job {
             marks: options::marks_path(given)?,
         })
     }
+
+    /// The same job on other paths.
+    pub fn with_paths(&self, src: PathBuf, dst: PathBuf) -> PyResult<Job> {
+        check_paths(&src, &dst)?;
+        Ok(Job {
+            src,
+            dst,
+            ..self.clone()
+        })
+    }
+}
+
+fn check_paths(src: &Path, dst: &Path) -> PyResult<()> {
+    if is_std(src) || is_std(dst) {
+        return Err(PyValueError::new_err(
+            "'-' (standard input or output) is for the command line: give file or folder paths",
+        ));
+    }
+    Ok(())
 }
 
 /// What a run did: frames written, and for a stream how many were reused, updated, rebuilt.
@@ -64,25 +82,113 @@ pub struct Done {
 /// Runs `job`; called with the GIL released.
 pub fn run(job: &Job) -> PyResult<Done> {
     let started = std::time::Instant::now();
+    let mut done = match plan(job)? {
+        Step::Write(still) => still.write()?,
+        Step::Done(done) => done,
+    };
+    done.seconds = started.elapsed().as_secs_f64();
+    Ok(done)
+}
+
+/// Runs `jobs` in order, each as [`run`] would (the same files), with the writing of each
+/// picture (encoding, and the sync to disk before the rename) on a second thread while the
+/// next one is read and retargeted, as the command line's stream writes its frames on a
+/// thread of their own. Stops at the first error, after the pictures already retargeted are
+/// written. Called with the GIL released.
+pub fn run_all(jobs: &[Job]) -> PyResult<Vec<Done>> {
+    let mut done: Vec<Done> = jobs.iter().map(|_| Done::default()).collect();
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Still, std::time::Instant)>(1);
+    std::thread::scope(|s| {
+        let writer = std::thread::Builder::new()
+            .name("write".into())
+            .spawn_scoped(s, move || -> PyResult<Vec<(usize, Done)>> {
+                let mut written = Vec::new();
+                for (i, still, started) in rx {
+                    let mut d = still.write()?;
+                    d.seconds = started.elapsed().as_secs_f64();
+                    written.push((i, d));
+                }
+                Ok(written)
+            })
+            .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("a writer thread: {e}")))?;
+        let mut failed = None;
+        for (i, job) in jobs.iter().enumerate() {
+            let started = std::time::Instant::now();
+            match plan(job) {
+                Ok(Step::Write(still)) => {
+                    if tx.send((i, still, started)).is_err() {
+                        break; // the writer failed: its error is the one to raise
+                    }
+                }
+                Ok(Step::Done(mut d)) => {
+                    d.seconds = started.elapsed().as_secs_f64();
+                    done[i] = d;
+                }
+                Err(e) => {
+                    failed = Some(e);
+                    break;
+                }
+            }
+        }
+        drop(tx);
+        let written = writer.join().unwrap_or_else(|_| {
+            Err(pyo3::exceptions::PyRuntimeError::new_err(
+                "internal error: the writer thread panicked",
+            ))
+        })?;
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        for (i, d) in written {
+            done[i] = d;
+        }
+        Ok(done)
+    })
+}
+
+/// A picture retargeted, to be written.
+pub struct Still {
+    image: vizretarget::Image,
+    dst: PathBuf,
+    format: OutputFormat,
+}
+
+impl Still {
+    fn write(self) -> PyResult<Done> {
+        write_still(&self.image, &self.dst, self.format).map_err(to_py)?;
+        Ok(Done {
+            frames: 1,
+            rebuilt: 1,
+            ..Done::default()
+        })
+    }
+}
+
+/// What is left of a job once the calling thread has done its part.
+enum Step {
+    /// A picture to write.
+    Write(Still),
+    /// A stream, run through and written.
+    Done(Done),
+}
+
+/// A job up to the writing of its picture; a stream all the way.
+fn plan(job: &Job) -> PyResult<Step> {
     let destination = resolve_output(&job.dst, OutputChoice::Auto).map_err(to_py)?;
     let frames = frame_count(&job.src, &job.limits).map_err(to_py)?;
-    let mut done = match (destination, frames) {
-        (Destination::Still(format), Some(1)) => still(job, &job.dst, format)?,
-        (Destination::Still(_), Some(n)) => {
-            return Err(PyValueError::new_err(format!(
-                "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a \
-                 .gif, or a folder (ending in /) for one PNG per frame",
-                job.src.display(),
-                job.dst.display()
-            )))
-        }
-        (Destination::Still(_), None) => {
-            return Err(PyValueError::new_err(format!(
-                "{}: one picture cannot hold a folder of frames: write a .gif or a folder \
-                 (ending in /)",
-                job.dst.display()
-            )))
-        }
+    match (destination, frames) {
+        (Destination::Still(format), Some(1)) => still(job, &job.dst, format).map(Step::Write),
+        (Destination::Still(_), Some(n)) => Err(PyValueError::new_err(format!(
+            "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a \
+             .gif, or a folder (ending in /) for one PNG per frame",
+            job.src.display(),
+            job.dst.display()
+        ))),
+        (Destination::Still(_), None) => Err(PyValueError::new_err(format!(
+            "{}: one picture cannot hold a folder of frames: write a .gif or a folder \
+             (ending in /)",
+            job.dst.display()
+        ))),
         // One picture into a folder keeps its name, as a folder of frames does.
         (Destination::Stream(SinkFormat::PngSeq), Some(1)) => {
             let stem = job
@@ -97,21 +203,17 @@ pub fn run(job: &Job) -> PyResult<Done> {
                     })
                 })?;
             }
-            still(job, &job.dst.join(format!("{stem}.png")), OutputFormat::Png)?
+            still(job, &job.dst.join(format!("{stem}.png")), OutputFormat::Png).map(Step::Write)
         }
-        (Destination::Stream(_), _) if job.method != Method::Mesh => {
-            return Err(bad(
-                "option method",
-                format!(
-                    "{} is for one picture; streams are retargeted with mesh",
-                    job.method
-                ),
-            ))
-        }
-        (Destination::Stream(format), _) => stream(job, format)?,
-    };
-    done.seconds = started.elapsed().as_secs_f64();
-    Ok(done)
+        (Destination::Stream(_), _) if job.method != Method::Mesh => Err(bad(
+            "option method",
+            format!(
+                "{} is for one picture; streams are retargeted with mesh",
+                job.method
+            ),
+        )),
+        (Destination::Stream(format), _) => stream(job, format).map(Step::Done),
+    }
 }
 
 /// How many frames `src` holds when it is one file (a GIF is counted without decoding;
@@ -132,25 +234,32 @@ fn frame_count(src: &Path, limits: &Limits) -> Result<Option<u64>, Error> {
     Ok(Some(gif.len_hint().map_or(1, |n| n.max(1) as u64)))
 }
 
-/// One picture: checked from its header, retargeted, written atomically.
-fn still(job: &Job, dst: &Path, format: OutputFormat) -> PyResult<Done> {
+/// One picture: checked from its header and retargeted, to be written atomically.
+fn still(job: &Job, dst: &Path, format: OutputFormat) -> PyResult<Still> {
     let from = probe_still(&job.src, &job.limits).map_err(to_py)?;
     let target = options::resolve(&job.target, from)?;
     job.limits
         .check_still(&job.src, from, target)
         .map_err(to_py)?;
     let image = read_still_with(&job.src, &job.limits).map_err(to_py)?;
-    // The mesh as the command line runs it: `retarget_with` would keep the analysis too.
-    let out = match job.method {
-        Method::Mesh => retarget(&image, target, &job.options).map(|r| r.image),
+    // The mesh as the command line runs it, through `Retargeter`, which takes the picture
+    // by value (`retarget` would copy it); `retarget_with` would keep the analysis too.
+    let image = match job.method {
+        Method::Mesh => Retargeter::new(target, job.options.clone())
+            .and_then(|mut r| {
+                r.send_frame(Frame::new(image, 0))?;
+                r.flush();
+                r.receive_frame()
+                    .map_err(|_| Error::Internal("a still sent and flushed gave no frame".into()))
+            })
+            .map(|r| r.image),
         m => retarget_with(m, &image, target, &job.options).map(|r| r.image),
     }
     .map_err(to_py)?;
-    write_still(&out, dst, format).map_err(to_py)?;
-    Ok(Done {
-        frames: 1,
-        rebuilt: 1,
-        ..Done::default()
+    Ok(Still {
+        image,
+        dst: dst.to_path_buf(),
+        format,
     })
 }
 

@@ -21,6 +21,19 @@ use std::path::PathBuf;
 use vizretarget::compare::{compare as compare_methods, SheetOptions};
 use vizretarget::{retarget_with, Frame, Method, Retargeter};
 
+/// The extension's own allocations (the library's, not Python's) go to mimalloc. A still
+/// needs some 15 to 25 MB of working memory, all freed when the call returns; glibc's malloc
+/// gave it back to the kernel at once (its heap top trimmed, its large blocks unmapped, a
+/// thread arena's pages dropped), so every call page-faulted it in again: about 4,000 faults
+/// and 9 to 11 ms of system time a 1237×744 still, on 15 ms of work (2026-12-07, perf and
+/// getrusage). The command line's stream never paid it (its frames overlap on its stage
+/// threads). mimalloc keeps freed memory for a second before it returns it (its
+/// `purge_delay`), so calls in a batch reuse it: 17 to 100 faults a still, and its faster
+/// small allocations took user time from 15 to 10 ms a still. `local_dynamic_tls`: the
+/// extension is a library Python loads with dlopen.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// `(array, stats)`: `image` (an `H×W×3` or `H×W×4` uint8 array) retargeted to `size`.
 #[pyfunction]
 #[pyo3(signature = (image, size, options=None))]
@@ -106,6 +119,35 @@ fn retarget_file<'py>(
     let given = Given::new(options, &[STILL, REUSE, FILES])?;
     let job = files::Job::new(src, dst, options::target(size)?, &given)?;
     let done = py.detach(|| files::run(&job))?;
+    done_dict(py, &done)
+}
+
+/// [`retarget_file`] for each `(src, dst)` of `pairs`, in order, the writing of each picture
+/// overlapping the work on the next; returns one dict each.
+#[pyfunction]
+#[pyo3(signature = (pairs, size, options=None))]
+fn retarget_files<'py>(
+    py: Python<'py>,
+    pairs: Vec<(PathBuf, PathBuf)>,
+    size: &Bound<'py, PyAny>,
+    options: Option<Bound<'py, PyDict>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let given = Given::new(options, &[STILL, REUSE, FILES])?;
+    let target = options::target(size)?;
+    // The options read once, for every pair.
+    let mut jobs: Vec<files::Job> = Vec::with_capacity(pairs.len());
+    for (src, dst) in pairs {
+        let job = match jobs.first() {
+            None => files::Job::new(src, dst, target, &given)?,
+            Some(first) => first.with_paths(src, dst)?,
+        };
+        jobs.push(job);
+    }
+    let done = py.detach(|| files::run_all(&jobs))?;
+    done.iter().map(|d| done_dict(py, d)).collect()
+}
+
+fn done_dict<'py>(py: Python<'py>, done: &files::Done) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("frames", done.frames)?;
     d.set_item("reused", done.reused)?;
@@ -115,16 +157,18 @@ fn retarget_file<'py>(
     Ok(d)
 }
 
-/// Milliseconds of each of `repeat` calls of the library's own `vizretarget::retarget` on
-/// `image` (default options), timed in Rust: what `benches/python_overhead.py` compares the
-/// package's call with.
+/// `(wall_ms, stages_ms)` of each of `repeat` calls of the library's own
+/// `vizretarget::retarget` on `image` (default options), timed in Rust: what
+/// `benches/python_overhead.py` compares the package's call with. `stages_ms` is the
+/// frame's own stage total (`FrameStats::times`), which the bench subtracts to take the
+/// machine's load out of the comparison.
 #[pyfunction]
 fn _library_ms(
     py: Python<'_>,
     image: &Bound<'_, PyAny>,
     size: &Bound<'_, PyAny>,
     repeat: usize,
-) -> PyResult<Vec<f64>> {
+) -> PyResult<Vec<(f64, f64)>> {
     let p = picture(image, "image")?;
     let target = options::resolve(&options::target(size)?, p.image.size())?;
     let opts = vizretarget::Options::default();
@@ -134,10 +178,11 @@ fn _library_ms(
                 let start = std::time::Instant::now();
                 let out = vizretarget::retarget(&p.image, target, &opts)?;
                 let ms = start.elapsed().as_secs_f64() * 1e3;
+                let stages = out.stats.times.total_ms();
                 drop(out);
-                Ok(ms)
+                Ok((ms, stages))
             })
-            .collect::<Result<Vec<f64>, vizretarget::Error>>()
+            .collect::<Result<Vec<_>, vizretarget::Error>>()
     })
     .map_err(to_py)
 }
@@ -148,6 +193,7 @@ fn _vizretarget(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(retarget, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(retarget_file, m)?)?;
+    m.add_function(wrap_pyfunction!(retarget_files, m)?)?;
     m.add_function(wrap_pyfunction!(_library_ms, m)?)?;
     m.add_class::<stream::NativeRetargeter>()?;
     Ok(())

@@ -35,6 +35,18 @@ def test_a_still_is_the_command_lines_byte_for_byte(cli, tmp_path) -> None:
     assert np.array_equal(vizretarget.retarget(rgb, (360, 405)), expected[..., :3])
 
 
+@pytest.mark.parametrize("width", [157, 158, 159, 160])
+def test_rgb_in_and_out_is_the_rgba_call_at_every_width(width: int) -> None:
+    # RGB is widened to RGBA four pixels at a time and packed back the same way: pictures
+    # whose pixel counts leave 0 to 3 pixels over (odd heights), in and out.
+    rgb = np.ascontiguousarray(chart(h=181, w=width))
+    rgba = np.ascontiguousarray(np.dstack([rgb, np.full(rgb.shape[:2], 255, np.uint8)]))
+    for size in [(width - 41, None), (width - 1, 177)]:
+        out = vizretarget.retarget(rgb, size)
+        assert out.shape[2] == 3 and out.flags["C_CONTIGUOUS"]
+        assert np.array_equal(out, vizretarget.retarget(rgba, size)[..., :3]), size
+
+
 @pytest.mark.parametrize(
     "view",
     [

@@ -46,3 +46,36 @@ def test_a_folder_of_frames_with_reuse(cli, tmp_path) -> None:
         assert (tmp_path / "py" / n).read_bytes() == (tmp_path / "cli" / n).read_bytes(), n
     with pytest.raises(ValueError, match="one picture cannot hold a folder"):
         vizretarget.retarget_file(src, tmp_path / "one.png", (320, None))
+
+
+def test_a_batch_is_each_file_alone_byte_for_byte(cli, tmp_path) -> None:
+    # Different pictures one after another: nothing of one (mesh, layout) may reach the
+    # next, as it would in a stream; each file is the command line's for that picture alone.
+    srcs = [STREAMS / "dashboard" / "frame-0003.png", STREAMS / "scatter-map" / "frame-0000.png",
+            STREAMS / "graph" / "frame-0001.png", STREAMS / "dashboard" / "frame-0000.png"]
+    pairs = [(s, tmp_path / f"batch-{i}.png") for i, s in enumerate(srcs)]
+    done = vizretarget.retarget_files(pairs, "360x300")
+    assert [d["frames"] for d in done] == [1] * len(srcs)
+    for i, (s, d) in enumerate(pairs):
+        run_cli(cli, s, "--size", "360x300", "-o", tmp_path / f"cli-{i}.png")
+        assert d.read_bytes() == (tmp_path / f"cli-{i}.png").read_bytes(), s
+        vizretarget.retarget_file(s, tmp_path / f"one-{i}.png", "360x300")
+        assert d.read_bytes() == (tmp_path / f"one-{i}.png").read_bytes(), s
+    # A stream among the pictures goes through the pipeline, as retarget_file runs it.
+    mixed = vizretarget.retarget_files([(srcs[0], tmp_path / "m.png"), (STREAMS / "graph.gif", tmp_path / "m.gif")], "50%x100%")
+    assert mixed[0]["frames"] == 1 and mixed[1]["frames"] > 1
+    assert vizretarget.retarget_files([], "50%") == []
+
+
+def test_a_batch_stops_at_the_first_error_after_writing_what_came_before(tmp_path) -> None:
+    src = STREAMS / "dashboard" / "frame-0003.png"
+    with pytest.raises(OSError, match="missing.png"):
+        vizretarget.retarget_files(
+            [(src, tmp_path / "a.png"), (tmp_path / "missing.png", tmp_path / "b.png"), (src, tmp_path / "c.png")], "50%"
+        )
+    assert (tmp_path / "a.png").is_file()
+    assert not (tmp_path / "b.png").exists() and not (tmp_path / "c.png").exists()
+    with pytest.raises(ValueError, match="standard input"):
+        vizretarget.retarget_files([(src, tmp_path / "a.png"), ("-", tmp_path / "b.png")], "50%")
+    with pytest.raises(OSError):  # the folder to write into is missing
+        vizretarget.retarget_files([(src, tmp_path / "no" / "such" / "a.png")], "50%")

@@ -1,5 +1,5 @@
 """examples/python/ray_batch.py on a local Ray with 2 CPUs: every picture to every size,
-each the same as the package's own call gives."""
+each the very file the command line writes for that picture alone."""
 
 from __future__ import annotations
 
@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 import vizretarget
-from conftest import REPO, STREAMS, read_rgba
+from conftest import REPO, STREAMS, read_rgba, run_cli
 
 pytest.importorskip("ray")
 
 
-def test_ray_batch_writes_every_size(tmp_path) -> None:
+def test_ray_batch_writes_every_size(cli, tmp_path) -> None:
     src = tmp_path / "charts"
     src.mkdir()
     pictures = sorted((STREAMS / "scatter-map").glob("*.png"))[:4] + sorted((STREAMS / "graph").glob("*.png"))[:2]
@@ -32,6 +32,9 @@ def test_ray_batch_writes_every_size(tmp_path) -> None:
     assert "12 outputs" in r.stdout, r.stdout
     for i in range(len(pictures)):
         for size, folder in [("360x640", "360x640"), ("50%", "50pc")]:
-            out = read_rgba(dst / folder / f"chart-{i}.png")
-            expected = read_rgba(src / f"chart-{i}.png")
-            assert np.array_equal(out, vizretarget.retarget(expected, size)), (i, size)
+            out = dst / folder / f"chart-{i}.png"
+            alone = tmp_path / f"cli-{i}-{folder}.png"
+            run_cli(cli, src / f"chart-{i}.png", "--size", size, "-o", alone)
+            assert out.read_bytes() == alone.read_bytes(), (i, size)
+            with_array = vizretarget.retarget(read_rgba(src / f"chart-{i}.png"), size)
+            assert np.array_equal(read_rgba(out), with_array), (i, size)

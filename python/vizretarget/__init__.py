@@ -14,7 +14,8 @@ line ``vizretarget``, with the GIL released while it works.
 - :func:`retarget` one picture (a numpy array or a ``PIL.Image``; returns the same kind);
 - :class:`Retargeter` a stream of frames, reusing the mesh from frame to frame;
 - :func:`retarget_file` whatever the command line reads and writes (a picture, an animated
-  GIF, a folder of frames);
+  GIF, a folder of frames); :func:`retarget_files` many of them, each as alone, the writing
+  of one overlapping the work on the next;
 - :func:`compare` every method side by side, with their measures.
 
 Sizes: ``(width, height)`` in pixels, ``None`` for a side to keep, a side as a string
@@ -37,14 +38,14 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, Iterator, Optional, Tuple
+from typing import Any, Dict, Iterable, Iterator, List, Optional, Tuple
 
 import numpy as np
 
 from . import _vizretarget as _native
 
 __version__: str = _native.__version__
-__all__ = ["retarget", "Retargeter", "retarget_file", "compare", "__version__"]
+__all__ = ["retarget", "Retargeter", "retarget_file", "retarget_files", "compare", "__version__"]
 
 
 def _is_pil(image: Any) -> bool:
@@ -167,6 +168,26 @@ def retarget_file(
     argument (an animated GIF into one ``.png``, an option out of range).
     """
     return _native.retarget_file(os.fspath(src), os.fspath(dst), size, options)
+
+
+def retarget_files(
+    pairs: "Iterable[Tuple[os.PathLike[str] | str, os.PathLike[str] | str]]",
+    size: Any,
+    **options: Any,
+) -> List[Dict[str, Any]]:
+    """Retarget each ``(src, dst)`` of ``pairs`` as :func:`retarget_file` would, in order.
+
+    The files are the same as one call each gives (those of the command line for each
+    ``src`` alone: no mesh or layout is carried from one picture to the next), but a
+    picture is encoded and synced to disk on a second thread while the next one is read and
+    retargeted, as the command line's stream writes its frames: the unit of work for a
+    batch (Ray Data's ``map_batches``). ``size`` and ``options`` are for every pair.
+    Returns one dict per pair, as :func:`retarget_file`.
+
+    Stops at the first error (``OSError``, ``ValueError`` as :func:`retarget_file`), once
+    the pictures before it are written.
+    """
+    return _native.retarget_files([(os.fspath(s), os.fspath(d)) for s, d in pairs], size, options)
 
 
 def compare(image: Any, size: Any, **options: Any) -> Tuple[Any, Dict[str, Any]]:

@@ -1,7 +1,7 @@
 """Type stubs of vizretarget (see the module's docstring for what each option means)."""
 
 import os
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, TypeVar, Union
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -70,6 +70,12 @@ def retarget_file(
     size: Size,
     **options: Any,
 ) -> Dict[str, Any]: ...
+
+def retarget_files(
+    pairs: Iterable[Tuple[Union[str, "os.PathLike[str]"], Union[str, "os.PathLike[str]"]]],
+    size: Size,
+    **options: Any,
+) -> List[Dict[str, Any]]: ...
 
 def compare(
     image: Union[npt.NDArray[np.uint8], _PIL.Image],
