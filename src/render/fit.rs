@@ -37,7 +37,7 @@ impl Fit {
     /// `None` otherwise.
     pub fn of(map: &CanvasMap, src: ImageRef<'_>, target: Size) -> Option<Fit> {
         let source = src.size();
-        if !(map.x.is_linear() && map.y.is_linear()) || !map.panels.is_empty() {
+        if !(map.x.is_linear() && map.y.is_linear() && map.panels.is_empty()) {
             return None;
         }
         let sx = target.width as f64 / source.width as f64;

@@ -370,11 +370,7 @@ impl<'a> TextLayout<'a> {
         if self.grounds[i].1 < FLAT_GROUND {
             return Some(CANNOT_FLOAT);
         }
-        // Nor does text set sideways (a y axis' title): its letters are found in pieces
-        // more often than upright text's, and a piece floated beside the rest left to the
-        // map reads torn (judged blind: "F|req", "d isp"). It follows the map whole, which
-        // keeps it at its size across the axis it stands beside.
-        if !self.words[i] || self.text[i].sideways {
+        if !self.words[i] {
             return None;
         }
         let [ax, _, ay, _] = self.map_of(i)?;
@@ -626,7 +622,6 @@ impl<'a> TextLayout<'a> {
         }
         let refused = (0..text.len()).any(|i| {
             self.words[i]
-                && !text[i].sideways
                 && !in_plot(i)
                 && on_canvas(&text[i])
                 && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
@@ -933,8 +928,8 @@ fn one_ink(src: &Image, t: &TextBlock, ground: [u8; 3]) -> bool {
 }
 
 /// Whether block `t` holds its words whole: no ink right beside its ends along its line
-/// (within [`WHOLE_REACH_PX`], across the middle half of the line), nor right above or
-/// below it (along its middle three quarters). A block found in pieces
+/// (within [`WHOLE_REACH_PX`], across the middle half of the line), nor, for a block
+/// shorter than [`ACROSS_LINES`] line heights, right above or below it. A block found in pieces
 /// ("Chi" of "Child", a sideways title read in upright bits) floated at its own scale beside
 /// the rest left to the map reads torn (judged blind); such a piece follows the map with the
 /// rest of its word.
@@ -960,8 +955,13 @@ fn whole(src: &Image, t: &TextBlock, ground: [u8; 3]) -> bool {
         .flat_map(|d| [lo.checked_sub(d), Some(hi + d).filter(|&v| v < n)])
         .flatten();
     let inked = |along: u32| (m0..m1).filter(|&a| at(along, a)).count() >= 2;
-    // Across the line too: the letters of a word set the other way (a sideways title read
-    // as upright pieces) stand right above and below the piece.
+    if hi - lo >= ACROSS_LINES * (a1 - a0).max(1) {
+        return !beside.into_iter().any(inked);
+    }
+    // Across the line too, for a block hardly longer than its line is high: the letters
+    // of a word set the other way (a sideways title read as upright pieces) stand right
+    // above and below the piece. (A longer line is no such piece, and its descenders may
+    // reach past its box.)
     let n_across = match t.sideways {
         false => h,
         true => w,
@@ -978,6 +978,9 @@ fn whole(src: &Image, t: &TextBlock, ground: [u8; 3]) -> bool {
 /// How far beside a text block's ends its word may go on ([`whole`]), pixels: closer than
 /// the space between two words.
 const WHOLE_REACH_PX: u32 = 2;
+/// Length of a block, in line heights, from which it is looked at along its line only
+/// ([`whole`]).
+const ACROSS_LINES: u32 = 2;
 
 /// Output pixels beyond a floating block's box whose source it may hide (the resampler's
 /// reach, rounded to a pixel).
