@@ -225,10 +225,7 @@ pub(crate) fn area_text_layout(
         dropped,
         ..
     } = room;
-    // Text inside a plot (a label on a mark, a cell's value) is a role of its own: it does
-    // not share the size its axes' labels can keep.
-    let in_plot = |i: usize| st.bands.in_plot(&text[i]);
-    share_scale(text, &area_of, &mut scale, &in_plot);
+    share_scale(text, &area_of, &mut scale);
     let refused = layout.all_or_none_on_canvas(&mut scale);
     let placements = (0..text.len())
         .map(|i| {
@@ -373,6 +370,13 @@ impl<'a> TextLayout<'a> {
         if !self.words[i] {
             return None;
         }
+        // Text inside a plot of a canvas taken whole (a label on a mark, a cell's value, a
+        // dot read as a glyph) follows the plot's map: where it stands is data, which a
+        // block stepping aside to make room would move (judged blind: two dots of a scatter
+        // moved off their values), and it is no part of the type around the plot.
+        if self.on_canvas(&self.text[i]) && self.st.bands.in_plot(&self.text[i]) {
+            return None;
+        }
         let [ax, _, ay, _] = self.map_of(i)?;
         // Never wider or taller than the output: a title wider than the target at its size
         // shrinks to fit, whole, rather than run off the edge.
@@ -380,6 +384,12 @@ impl<'a> TextLayout<'a> {
         let (bw, bh) = ((t.x1 + 1 - t.x0) as f64, (t.y1 + 1 - t.y0) as f64);
         let room = (self.size.0 / bw).min(self.size.1 / bh);
         Some(ax.max(ay).min(1.0).min(room))
+    }
+
+    /// Whether block `t` lies on a canvas taken whole.
+    fn on_canvas(&self, t: &TextBlock) -> bool {
+        (self.area_of(t))
+            .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
     }
 
     /// Whether block i drawn over `b` hides ink that is not text floating with it.
@@ -608,18 +618,9 @@ impl<'a> TextLayout<'a> {
     /// Whether it was left to the map.
     fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) -> bool {
         let text = self.text;
-        let on_canvas = |t: &TextBlock| {
-            (self.area_of(t))
-                .is_some_and(|k| self.st.areas[k].kind == crate::structure::AreaKind::Canvas)
-        };
-        // Text inside a plot that cannot float (a dot read as a glyph, a value on a busy
-        // cell) follows the plot's map alone: it is no part of the type around the plot.
+        let on_canvas = |t: &TextBlock| self.on_canvas(t);
+        // Text inside a plot follows its map ([`TextLayout::float_scale`]): no refusal.
         let in_plot = |i: usize| self.st.bands.in_plot(&text[i]);
-        for (i, s) in scale.iter_mut().enumerate() {
-            if in_plot(i) && on_canvas(&text[i]) && s.is_some_and(|s| s < MIN_TEXT_FLOAT) {
-                *s = None;
-            }
-        }
         let refused = (0..text.len()).any(|i| {
             self.words[i]
                 && !in_plot(i)
@@ -792,20 +793,17 @@ fn share_scale(
     text: &[TextBlock],
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
     scale: &mut [Option<f64>],
-    in_plot: &impl Fn(usize) -> bool,
 ) {
     let group = type_groups(text, area_of, scale, Alignment::Centres);
-    let n = text.len();
-    let key = |i: usize| group[i] + n * usize::from(in_plot(i));
-    let mut least = vec![f64::INFINITY; 2 * n];
+    let mut least = vec![f64::INFINITY; text.len()];
     for (i, s) in scale.iter().enumerate() {
         if let Some(s) = *s {
-            least[key(i)] = least[key(i)].min(s);
+            least[group[i]] = least[group[i]].min(s);
         }
     }
     for (i, s) in scale.iter_mut().enumerate() {
         if s.is_some() {
-            *s = Some(least[key(i)]);
+            *s = Some(least[group[i]]);
         }
     }
 }
@@ -2157,7 +2155,7 @@ mod tests {
         ];
         let area_of = |_: &TextBlock| Some(0);
         let mut scale = [0.81, 0.81, 1.0, 1.0, 1.0, 0.9, 0.81, 0.7, 1.0].map(Some);
-        share_scale(&text, &area_of, &mut scale, &|_| false);
+        share_scale(&text, &area_of, &mut scale);
         assert!(scale[..4].iter().all(|&s| s == Some(0.81)), "{scale:?}");
         assert!(scale[4..7].iter().all(|&s| s == Some(0.81)), "{scale:?}");
         // A label a line over a caption centred under it is another kind of text.
