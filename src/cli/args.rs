@@ -246,14 +246,17 @@ pub struct Cli {
     /// Also write the method's intermediate pictures into DIR (created if missing): the
     /// saliency map (vsm.png), its levels (levels.png), the lines and text blocks found
     /// (structure.png; as JSON in structure.json, with where the warp put each text block and
-    /// its scale under "text_out"), and two pictures of the mesh: over the input before the
+    /// its scale under "text_out", and the layout's spans and panels under "bands"), and two
+    /// pictures of the mesh: over the input before the
     /// warp (mesh-before.png) and over the output after it (mesh-after.png). One picture
     /// only: refused for a stream.
     #[arg(long, value_name = "DIR")]
     pub debug_dir: Option<PathBuf>,
 
     /// Print mesh size (vertices, triangles, degrees of freedom) and milliseconds per stage to
-    /// stderr (for a stream, one line per frame). Off by default.
+    /// stderr (for a stream, one line per frame), with the data areas, the marks and text
+    /// drawn floating, the tick labels thinned out and the panels laid out each in its slot.
+    /// Off by default.
     #[arg(long)]
     pub stats: bool,
 
