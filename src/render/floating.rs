@@ -225,7 +225,10 @@ pub(crate) fn area_text_layout(
         dropped,
         ..
     } = room;
-    share_scale(text, &area_of, &mut scale);
+    // Text inside a plot (a label on a mark, a cell's value) is a role of its own: it does
+    // not share the size its axes' labels can keep.
+    let in_plot = |i: usize| layout.on_canvas(&text[i]) && st.bands.in_plot(&text[i]);
+    share_scale(text, &area_of, &mut scale, &in_plot);
     let refused = layout.all_or_none_on_canvas(&mut scale);
     let placements = (0..text.len())
         .map(|i| {
@@ -368,13 +371,6 @@ impl<'a> TextLayout<'a> {
             return Some(CANNOT_FLOAT);
         }
         if !self.words[i] {
-            return None;
-        }
-        // Text inside a plot of a canvas taken whole (a label on a mark, a cell's value, a
-        // dot read as a glyph) follows the plot's map: where it stands is data, which a
-        // block stepping aside to make room would move (judged blind: two dots of a scatter
-        // moved off their values), and it is no part of the type around the plot.
-        if self.on_canvas(&self.text[i]) && self.st.bands.in_plot(&self.text[i]) {
             return None;
         }
         let [ax, _, ay, _] = self.map_of(i)?;
@@ -585,7 +581,15 @@ impl<'a> TextLayout<'a> {
             boxes[i]
                 .is_some_and(|bi| self.in_the_way((i, bi), boxes, &mut room.covered[i], floating))
         });
-        if !conflict || members.iter().any(|&i| boxes[i].is_none()) {
+        // Text inside a plot of a canvas taken whole (a label on a mark, a cell's value, a
+        // dot read as a glyph) stands where the plot's map takes it: where it stands is data,
+        // which a step aside would move (judged blind: two scatter dots read as glyphs moved
+        // off their values). It makes room by shrinking only.
+        let in_plot = |i: usize| {
+            let t = &self.text[i];
+            self.on_canvas(t) && self.st.bands.in_plot(t)
+        };
+        if !conflict || members.iter().any(|&i| boxes[i].is_none() || in_plot(i)) {
             return;
         }
         let (scale, shift) = (&room.scale, &mut room.shift);
@@ -619,7 +623,8 @@ impl<'a> TextLayout<'a> {
     fn all_or_none_on_canvas(&self, scale: &mut [Option<f64>]) -> bool {
         let text = self.text;
         let on_canvas = |t: &TextBlock| self.on_canvas(t);
-        // Text inside a plot follows its map ([`TextLayout::float_scale`]): no refusal.
+        // Text inside a plot that cannot float follows the plot's map alone: it is no part
+        // of the type around the plot, and turns nothing down.
         let in_plot = |i: usize| self.st.bands.in_plot(&text[i]);
         let refused = (0..text.len()).any(|i| {
             self.words[i]
@@ -793,17 +798,20 @@ fn share_scale(
     text: &[TextBlock],
     area_of: &impl Fn(&TextBlock) -> Option<usize>,
     scale: &mut [Option<f64>],
+    in_plot: &impl Fn(usize) -> bool,
 ) {
     let group = type_groups(text, area_of, scale, Alignment::Centres);
-    let mut least = vec![f64::INFINITY; text.len()];
+    let n = text.len();
+    let key = |i: usize| group[i] + n * usize::from(in_plot(i));
+    let mut least = vec![f64::INFINITY; 2 * n];
     for (i, s) in scale.iter().enumerate() {
         if let Some(s) = *s {
-            least[group[i]] = least[group[i]].min(s);
+            least[key(i)] = least[key(i)].min(s);
         }
     }
     for (i, s) in scale.iter_mut().enumerate() {
         if s.is_some() {
-            *s = Some(least[group[i]]);
+            *s = Some(least[key(i)]);
         }
     }
 }
@@ -2155,7 +2163,7 @@ mod tests {
         ];
         let area_of = |_: &TextBlock| Some(0);
         let mut scale = [0.81, 0.81, 1.0, 1.0, 1.0, 0.9, 0.81, 0.7, 1.0].map(Some);
-        share_scale(&text, &area_of, &mut scale);
+        share_scale(&text, &area_of, &mut scale, &|_| false);
         assert!(scale[..4].iter().all(|&s| s == Some(0.81)), "{scale:?}");
         assert!(scale[4..7].iter().all(|&s| s == Some(0.81)), "{scale:?}");
         // A label a line over a caption centred under it is another kind of text.

@@ -459,7 +459,8 @@ const MOST_MARKS_COMPARED: usize = 2000;
 
 /// The one scale of a frame's area marks: the author's size (1: a chart drawn again for
 /// another screen keeps its markers' point size) where room allows, that is, unless two marks
-/// that stood apart would touch; then the largest scale that keeps every such pair apart,
+/// that stood apart would touch, or two that overlapped would overlap more; then the largest
+/// scale that keeps every such pair as apart as it was,
 /// but never under the maps' geometric mean (the marks' share of their plot's area, which
 /// the picture had). One scale for all keeps a bubble's ratio to the others.
 fn marks_scale(in_areas: &[(Mark, InArea)], maps: AreaMaps<'_>) -> f64 {
@@ -484,11 +485,16 @@ fn marks_scale(in_areas: &[(Mark, InArea)], maps: AreaMaps<'_>) -> f64 {
     for (i, a) in placed.iter().enumerate() {
         for b in &placed[i + 1..] {
             let reach = a.2 + b.2;
-            let gap = a.0.distance(b.0) - reach;
+            let apart = a.0.distance(b.0);
+            let gap = apart - reach;
             if reach > 0.0 && gap > 0.0 {
                 // Apart by what they were, up to a rim's width or two.
                 let keep = gap.min(MARK_GAP_PX);
                 scale = scale.min((a.1.distance(b.1) - keep) / reach);
+            } else if reach > 0.0 && apart > 0.0 {
+                // Overlapping already: no more than they did (their centres' distance and
+                // their sizes in one ratio), or bubbles merge and small ones hide.
+                scale = scale.min(a.1.distance(b.1) / apart);
             }
         }
     }
