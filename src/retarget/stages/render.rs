@@ -597,3 +597,47 @@ fn finish(
         marks,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mark(x: f64, y: f64, r: u32) -> (Mark, InArea) {
+        let (cx, cy) = (x as u32, y as u32);
+        let m = Mark {
+            center: DVec2::new(x, y),
+            ring_radius: r as f64 + 2.0,
+            bbox: [cx - r, cy - r, cx + r, cy + r],
+            pixels: 3 * r * r,
+        };
+        (m, InArea::Mark(0, [200, 0, 0]))
+    }
+
+    /// Halved along x: marks far apart keep the author's size; two that stood apart keep a
+    /// gap, two that overlapped overlap no more than they did, both down to the floor of the
+    /// map's geometric mean (the marks' share of their plot, which the picture had).
+    #[test]
+    fn marks_keep_their_size_where_room_allows() {
+        let area = [Some([0.5, 0.0, 1.0, 0.0])];
+        let maps = AreaMaps::from(&area);
+        let floor = 0.5f64.sqrt();
+        let apart = [mark(100.0, 100.0, 5), mark(300.0, 100.0, 5)];
+        assert_eq!(marks_scale(&apart, maps), 1.0);
+        // 24 px apart centre to centre, 10 px reach: at half width 12 apart, a 2 px gap kept.
+        let near = [mark(100.0, 100.0, 5), mark(124.0, 100.0, 5)];
+        assert!((marks_scale(&near, maps) - 1.0).abs() < 1e-9);
+        // 16 px apart: 8 at half width, a 2 px gap kept at 0.6, under the floor.
+        let close = [mark(100.0, 100.0, 5), mark(116.0, 100.0, 5)];
+        assert!((marks_scale(&close, maps) - floor).abs() < 1e-9);
+        // Apart along y, which the map keeps: the author's size.
+        let stacked = [mark(100.0, 100.0, 5), mark(100.0, 116.0, 5)];
+        assert!((marks_scale(&stacked, maps) - 1.0).abs() < 1e-9);
+        // Overlapping along y (8 px apart, 10 px reach): kept apart as they were, at 1.
+        let over = [mark(100.0, 100.0, 5), mark(100.0, 108.0, 5)];
+        assert!((marks_scale(&over, maps) - 1.0).abs() < 1e-9);
+        // Overlapping along a diagonal: their distance shrinks to 0.79 of itself, so do they.
+        let diagonal = [mark(100.0, 100.0, 5), mark(105.0, 105.0, 5)];
+        let s = marks_scale(&diagonal, maps);
+        assert!((s - (1.25f64 / 2.0).sqrt()).abs() < 1e-9, "{s}");
+    }
+}
