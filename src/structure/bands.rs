@@ -12,7 +12,7 @@
 //! any map along x. A block of text lends its columns to a band only when all of them are
 //! clean (a word is never kinked), and no band lies inside a data area found from its axes.
 
-use super::spans::merged;
+use super::spans::{merged, runs_where};
 use super::text::ALIGNED_PX;
 use super::{DataArea, TextBlock};
 use crate::image::ImageRef;
@@ -220,24 +220,6 @@ fn around_text(
     }
 }
 
-/// The half-open runs of positions below `n` where `empty` holds.
-fn runs_where(n: u32, empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < n {
-        if !empty(i) {
-            i += 1;
-            continue;
-        }
-        let a = i;
-        while i < n && empty(i) {
-            i += 1;
-        }
-        out.push([a, i]);
-    }
-    out
-}
-
 /// The picture's ground: the colour most of its border pixels have.
 fn ground(image: ImageRef<'_>) -> [u8; 3] {
     let (w, h, px) = (
@@ -351,8 +333,8 @@ fn scan(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
     Bands {
         gaps_x: gaps(w, &x, |i| clean_x(i) && !text_x[i as usize]),
         gaps_y: gaps(h, &y, |i| clean_y(i) && !text_y[i as usize]),
-        blank_x: runs_where(w, |i| clean_x(i) && !text_x[i as usize]),
-        blank_y: runs_where(h, |i| clean_y(i) && !text_y[i as usize]),
+        blank_x: runs_where(0, w, |i| clean_x(i) && !text_x[i as usize]),
+        blank_y: runs_where(0, h, |i| clean_y(i) && !text_y[i as usize]),
         x,
         y,
         ..Bands::default()
@@ -435,7 +417,7 @@ fn covered(n: u32, spans: &[[u32; 2]]) -> Vec<bool> {
 /// its share of it.
 fn gaps(n: u32, bands: &[[u32; 2]], empty: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
     let beside = |p: u32| bands.iter().any(|b| b[0] == p || b[1] == p);
-    runs_where(n, empty)
+    runs_where(0, n, empty)
         .into_iter()
         .filter(|&[a, e]| a == 0 || e == n || beside(a) || beside(e))
         .collect()

@@ -6,6 +6,7 @@
 //! Each panel keeps what its own layout needs: the spans of its plots, of its type, and of
 //! its blank runs along each axis ([`crate::render::CanvasMap`] lays them out).
 
+use super::spans::{merged, runs_where};
 use super::{DataArea, TextBlock};
 use crate::image::ImageRef;
 
@@ -142,9 +143,9 @@ fn panel(
         .collect();
     let along = |b: &[u32; 4], k: usize| [b[k], b[k + 2]];
     let type_spans: [Vec<[u32; 2]>; 2] =
-        std::array::from_fn(|k| super::spans::merged(words.iter().map(|b| along(b, k))));
+        std::array::from_fn(|k| merged(words.iter().map(|b| along(b, k))));
     let bare: [Vec<[u32; 2]>; 2] =
-        std::array::from_fn(|k| super::spans::merged(plots.iter().map(|b| along(b, k))));
+        std::array::from_fn(|k| merged(plots.iter().map(|b| along(b, k))));
     let grown: [Vec<[u32; 2]>; 2] = std::array::from_fn(|k| grown_over(&bare[k], &words, k));
     let clean: [Vec<bool>; 2] = std::array::from_fn(|k| clean_lines(image, rect, k == 0));
     let blank: [Vec<[u32; 2]>; 2] = std::array::from_fn(|k| {
@@ -152,7 +153,7 @@ fn panel(
         let free = |p: u32| {
             clean[k][(p - lo) as usize] && !inside(&type_spans[k], p) && !inside(&grown[k], p)
         };
-        runs(lo, hi, free)
+        runs_where(lo, hi, free)
     });
     let ground = border_colour(image, rect);
     let mut me = Panel {
@@ -181,7 +182,7 @@ fn panel(
                     && clean[k][(p - lo) as usize]
                     && !words.iter().any(|t| t[k] < p && t[k + 2] > p)
             };
-            let widest = runs(g[0][1], g[1][0], ok)
+            let widest = runs_where(g[0][1], g[1][0], ok)
                 .into_iter()
                 .max_by_key(|r| (r[1] - r[0], r[0]));
             if let Some([r0, r1]) = widest {
@@ -230,32 +231,12 @@ fn grown_over(spans: &[[u32; 2]], words: &[[u32; 4]], k: usize) -> Vec<[u32; 2]>
         let hi = across(hi).map(|t| t[k + 2]).max().unwrap_or(hi).max(hi);
         [lo, hi]
     });
-    super::spans::merged(grown)
+    merged(grown)
 }
 
 /// Whether `p` lies in one of `spans` (half-open).
 fn inside(spans: &[[u32; 2]], p: u32) -> bool {
     spans.iter().any(|s| s[0] <= p && p < s[1])
-}
-
-/// The half-open runs of `lo..hi` where `ok` holds.
-fn runs(lo: u32, hi: u32, ok: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for p in lo..hi {
-        match (ok(p), start) {
-            (true, None) => start = Some(p),
-            (false, Some(s)) => {
-                out.push([s, p]);
-                start = None;
-            }
-            _ => {}
-        }
-    }
-    if let Some(s) = start {
-        out.push([s, hi]);
-    }
-    out
 }
 
 /// For each column (`columns`) or row of `rect`: whether it is one colour across the rect.

@@ -13,3 +13,23 @@ pub(super) fn merged(spans: impl Iterator<Item = [u32; 2]>) -> Vec<[u32; 2]> {
     }
     out
 }
+
+/// The half-open runs of `lo..hi` where `ok` holds (a band's clean rows, a gutter's).
+pub(super) fn runs_where(lo: u32, hi: u32, ok: impl Fn(u32) -> bool) -> Vec<[u32; 2]> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for p in lo..hi {
+        match (ok(p), start) {
+            (true, None) => start = Some(p),
+            (false, Some(s)) => {
+                out.push([s, p]);
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(s) = start {
+        out.push([s, hi]);
+    }
+    out
+}
