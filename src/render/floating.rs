@@ -227,8 +227,7 @@ pub(crate) fn area_text_layout(
     } = room;
     // Text inside a plot (a label on a mark, a cell's value) is a role of its own: it does
     // not share the size its axes' labels can keep.
-    let in_plot = |i: usize| layout.on_canvas(&text[i]) && st.bands.in_plot(&text[i]);
-    share_scale(text, &area_of, &mut scale, &in_plot);
+    share_scale(text, &area_of, &mut scale, &|i| layout.in_plot(i));
     let refused = layout.all_or_none_on_canvas(&mut scale);
     let placements = (0..text.len())
         .map(|i| {
@@ -380,6 +379,13 @@ impl<'a> TextLayout<'a> {
         let (bw, bh) = ((t.x1 + 1 - t.x0) as f64, (t.y1 + 1 - t.y0) as f64);
         let room = (self.size.0 / bw).min(self.size.1 / bh);
         Some(ax.max(ay).min(1.0).min(room))
+    }
+
+    /// Whether block i stands inside a plot of a canvas taken whole
+    /// ([`crate::structure::Bands::in_plot`]): a label on a mark, a cell's value.
+    fn in_plot(&self, i: usize) -> bool {
+        let t = &self.text[i];
+        self.on_canvas(t) && self.st.bands.in_plot(t)
     }
 
     /// Whether block `t` lies on a canvas taken whole.
@@ -585,11 +591,11 @@ impl<'a> TextLayout<'a> {
         // dot read as a glyph) stands where the plot's map takes it: where it stands is data,
         // which a step aside would move (judged blind: two scatter dots read as glyphs moved
         // off their values). It makes room by shrinking only.
-        let in_plot = |i: usize| {
-            let t = &self.text[i];
-            self.on_canvas(t) && self.st.bands.in_plot(t)
-        };
-        if !conflict || members.iter().any(|&i| boxes[i].is_none() || in_plot(i)) {
+        if !conflict
+            || members
+                .iter()
+                .any(|&i| boxes[i].is_none() || self.in_plot(i))
+        {
             return;
         }
         let (scale, shift) = (&room.scale, &mut room.shift);
@@ -625,10 +631,9 @@ impl<'a> TextLayout<'a> {
         let on_canvas = |t: &TextBlock| self.on_canvas(t);
         // Text inside a plot that cannot float follows the plot's map alone: it is no part
         // of the type around the plot, and turns nothing down.
-        let in_plot = |i: usize| self.st.bands.in_plot(&text[i]);
         let refused = (0..text.len()).any(|i| {
             self.words[i]
-                && !in_plot(i)
+                && !self.in_plot(i)
                 && on_canvas(&text[i])
                 && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
         });
