@@ -6,24 +6,8 @@ use proptest::prelude::*;
 use vizretarget::{retarget, Image, Options, Regions, Size};
 use vizretarget::{AreaKind, Structure};
 
-fn rect(img: &mut Image, x0: u32, y0: u32, x1: u32, y1: u32, c: [u8; 4]) {
-    for y in y0..y1.min(img.height()) {
-        for x in x0..x1.min(img.width()) {
-            img.set(x, y, c);
-        }
-    }
-}
-
-fn disc(img: &mut Image, cx: f32, cy: f32, r: f32, c: [u8; 4]) {
-    for y in (cy - r - 1.0).max(0.0) as u32..((cy + r + 2.0) as u32).min(img.height()) {
-        for x in (cx - r - 1.0).max(0.0) as u32..((cx + r + 2.0) as u32).min(img.width()) {
-            let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - cy);
-            if dx * dx + dy * dy <= r * r {
-                img.set(x, y, c);
-            }
-        }
-    }
-}
+mod common;
+use common::draw::{disc, rect};
 
 const AXIS: [u8; 4] = [40, 40, 40, 255];
 const DOT: [u8; 4] = [31, 119, 180, 255];

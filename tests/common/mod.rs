@@ -1,6 +1,9 @@
-//! Helpers the integration tests share: a snapshot for the watcher, and running the binary
-//! and checking how it failed for the command-line tests (each test crate uses some).
+//! Helpers the integration tests share: a snapshot for the watcher, running the binary and
+//! checking how it failed for the command-line tests, and drawing synthetic charts
+//! ([`draw`]); each test crate uses some.
 #![allow(dead_code)]
+
+pub mod draw;
 
 use std::io::Write;
 use std::path::Path;
