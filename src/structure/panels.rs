@@ -31,8 +31,6 @@ pub struct Panel {
     pub type_spans: [Vec<[u32; 2]>; 2],
     /// Clean runs (one colour across the panel, no text) outside its plots.
     pub blank: [Vec<[u32; 2]>; 2],
-    /// The commonest colour on its border: what fills its slot where it is drawn smaller.
-    pub ground: [u8; 4],
     /// Its parts, where a gutter between its plots splits it.
     pub split: Option<Split>,
 }
@@ -155,13 +153,11 @@ fn panel(
         };
         runs_where(lo, hi, free)
     });
-    let ground = border_colour(image, rect);
     let mut me = Panel {
         rect,
         plots: grown,
         type_spans,
         blank,
-        ground,
         split: None,
     };
     // Only a panel of two plots or more splits: a plot with its labels and legend is one
@@ -267,25 +263,6 @@ fn clean_lines(image: ImageRef<'_>, rect: [u32; 4], columns: bool) -> Vec<bool> 
     }
 }
 
-/// The commonest colour on `rect`'s border (the smallest of equals, for determinism).
-fn border_colour(image: ImageRef<'_>, rect: [u32; 4]) -> [u8; 4] {
-    let w = image.width() as usize;
-    let px = image.pixels();
-    let [x0, y0, x1, y1] = rect.map(|v| v as usize);
-    let mut count: std::collections::HashMap<[u8; 4], u32> = std::collections::HashMap::new();
-    for x in x0..x1 {
-        *count.entry(px[y0 * w + x]).or_default() += 1;
-        *count.entry(px[(y1 - 1) * w + x]).or_default() += 1;
-    }
-    for y in y0..y1 {
-        *count.entry(px[y * w + x0]).or_default() += 1;
-        *count.entry(px[y * w + x1 - 1]).or_default() += 1;
-    }
-    (count.into_iter())
-        .max_by_key(|&(c, n)| (n, std::cmp::Reverse(c)))
-        .map_or([255; 4], |(c, _)| c)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -356,7 +333,6 @@ mod tests {
         let cut = row.parts[0].rect[2];
         assert!((190..210).contains(&cut), "{cut}");
         assert_eq!(p.leaves().len(), 3);
-        assert_eq!(p.leaves()[2].ground, [255; 4], "the page around its card");
     }
 
     /// No gutter: a stroke across the gap between two plots keeps them one panel.
