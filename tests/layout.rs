@@ -186,6 +186,27 @@ fn a_stream_keeps_its_layout() {
     assert!(outs[2] == outs[0], "the same frame, the same picture");
 }
 
+/// A stream whose scene changes (a folder of unrelated charts of one size run as one
+/// stream) lays each scene out afresh: a frame after another chart is drawn as it is alone,
+/// not in the panels and bands of the chart before it.
+#[test]
+fn a_new_scene_is_laid_out_afresh() {
+    let mut single = Image::filled(Size::new(800, 600).unwrap(), [255; 4]);
+    panel(&mut single, 0, 0, 800, 600);
+    let target = Size::new(400, 600).unwrap();
+    for pictures in [[dashboard(), single.clone()], [single.clone(), dashboard()]] {
+        let alone = retarget(&pictures[1], target, &Options::default()).unwrap();
+        let mut r = vizretarget::Retargeter::new(target, Options::default()).unwrap();
+        let mut outs = Vec::new();
+        for (i, f) in pictures.into_iter().enumerate() {
+            r.send_frame(vizretarget::Frame::new(f, i as u64)).unwrap();
+            outs.push(r.receive_frame().unwrap());
+        }
+        assert_eq!(outs[1].stats.panels, alone.stats.panels);
+        assert!(outs[1].image == alone.image, "drawn as it is alone");
+    }
+}
+
 /// A small chart in the rectangle at `(x0, y0)`, `w × h`: y labels in its left margin, an
 /// L of axes, five x ticks with labels under them, and dots.
 fn panel(img: &mut Image, x0: u32, y0: u32, w: u32, h: u32) {

@@ -94,6 +94,75 @@ impl Bands {
     }
 }
 
+/// What a stream keeps of the frame that set its layout: the bands as they narrowed since,
+/// and that frame's size and text, to tell a new scene (a folder of unrelated stills run as
+/// one stream, a cut in an animation) from the same chart with its data moving.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    size: crate::image::Size,
+    text: Vec<TextBlock>,
+    bands: Bands,
+}
+
+/// Least share of a scene's text blocks found again, in place, in a frame of the same scene.
+/// An animated chart keeps its axes' labels, titles and legend while its data moves (a
+/// counter or a few values may change); another chart keeps few of them, if any.
+const SAME_SCENE_TEXT: f64 = 0.5;
+
+impl Scene {
+    /// The bands for a frame of `size` with `text` found in it and bands `now`: the scene's,
+    /// narrowed by the frame's ([`Bands::kept`]), while the frame belongs to it; else the
+    /// frame's own, and it starts a new scene.
+    pub fn keep(
+        scene: &mut Option<Scene>,
+        size: crate::image::Size,
+        text: &[TextBlock],
+        now: Bands,
+    ) -> Bands {
+        match scene.as_mut().filter(|s| s.holds(size, text)) {
+            Some(s) => {
+                s.bands = now.kept(&s.bands);
+                s.bands.clone()
+            }
+            None => {
+                *scene = Some(Scene {
+                    size,
+                    text: text.to_vec(),
+                    bands: now.clone(),
+                });
+                now
+            }
+        }
+    }
+
+    /// Whether a frame of `size` with `text` is of this scene: the same size, and at least
+    /// [`SAME_SCENE_TEXT`] of the scene's text blocks (all of the frame's, where the scene had
+    /// none) stand where they stood.
+    fn holds(&self, size: crate::image::Size, text: &[TextBlock]) -> bool {
+        if size != self.size {
+            return false;
+        }
+        let found = |a: &[TextBlock], b: &[TextBlock]| {
+            let again = a
+                .iter()
+                .filter(|t| b.iter().any(|u| overlaps_most(t, u)))
+                .count();
+            again as f64 >= SAME_SCENE_TEXT * a.len() as f64
+        };
+        found(&self.text, text) && found(text, &self.text)
+    }
+}
+
+/// Whether two blocks' boxes share at least half of their union: the same label, drawn again
+/// where it was (a digit or two changed, or read a pixel wider).
+fn overlaps_most(a: &TextBlock, b: &TextBlock) -> bool {
+    let w = a.x1.min(b.x1).saturating_sub(a.x0.max(b.x0)) as u64;
+    let h = a.y1.min(b.y1).saturating_sub(a.y0.max(b.y0)) as u64;
+    let area = |t: &TextBlock| (t.x1 - t.x0) as u64 * (t.y1 - t.y0) as u64;
+    let common = w * h;
+    2 * common >= area(a) + area(b) - common
+}
+
 impl Bands {
     /// Whether text block `t` stands inside a plot: its centre inside a labelled data
     /// area's rectangle (a label on a mark, a cell's value; not the tick labels beside it).
@@ -494,6 +563,53 @@ mod tests {
     use super::*;
     use crate::image::{Image, Size};
     use proptest::prelude::*;
+
+    /// A frame holds its scene while most of the scene's text stands where it stood (a
+    /// value changed, a label read a pixel wider); other text, or another size, starts anew.
+    #[test]
+    fn a_scene_holds_while_its_text_stands() {
+        let block = |x0, y0, w| TextBlock {
+            x0,
+            y0,
+            x1: x0 + w,
+            y1: y0 + 10,
+            line_height: 10,
+            sideways: false,
+        };
+        let size = Size::new(400, 300).unwrap();
+        let text = vec![block(10, 10, 60), block(10, 100, 20), block(10, 200, 20)];
+        let first = Bands {
+            x: vec![[0, 40]],
+            ..Bands::default()
+        };
+        let mut scene = None;
+        assert_eq!(Scene::keep(&mut scene, size, &text, first.clone()), first);
+        // The title read 3 px wider, a label gone, one new: the scene's bands, narrowed.
+        let later = vec![block(10, 10, 63), block(10, 100, 20), block(300, 250, 30)];
+        let narrower = Bands {
+            x: vec![[0, 30]],
+            ..Bands::default()
+        };
+        assert_eq!(
+            Scene::keep(&mut scene, size, &later, narrower.clone()),
+            narrower
+        );
+        let wider = Bands {
+            x: vec![[0, 50]],
+            ..Bands::default()
+        };
+        assert_eq!(
+            Scene::keep(&mut scene, size, &text, wider.clone()),
+            narrower,
+            "bands only narrow within a scene"
+        );
+        // Another chart: its own bands.
+        let other = vec![block(200, 20, 80), block(300, 120, 20), block(300, 220, 20)];
+        assert_eq!(Scene::keep(&mut scene, size, &other, wider.clone()), wider);
+        // The same text on a frame of another size: a new scene too.
+        let big = Size::new(800, 300).unwrap();
+        assert_eq!(Scene::keep(&mut scene, big, &other, first.clone()), first);
+    }
 
     /// A blank strip at the canvas' edge is a page margin; a header bar's fill along the top
     /// edge is a gap (it may give way to its text) but no margin.

@@ -18,7 +18,7 @@ mod spans;
 mod text;
 
 pub use areas::{AreaKind, DataArea};
-pub use bands::Bands;
+pub use bands::{Bands, Scene};
 pub use lines::Line;
 pub use panels::{Panel, Split};
 pub use text::TextBlock;

@@ -7,7 +7,7 @@ use crate::image::Image;
 use crate::mesh::{IncrementalMesh, Mark, Mesh, MeshOptions};
 use crate::retarget::reuse::{decide, Built, Decision, Incoming, Plan, ReuseOptions};
 use crate::saliency::Vsm;
-use crate::structure::{Bands, Structure};
+use crate::structure::{Scene, Structure};
 use crate::tiles::TileMask;
 use crate::vector::Binding;
 use glam::DVec2;
@@ -26,9 +26,9 @@ pub(crate) struct MeshStage {
     next_id: u64,
     /// Scratch of the reuse decision.
     scratch: Vec<bool>,
-    /// The text bands of the last canvas taken whole: a stream keeps what stays of them
-    /// ([`Bands::kept`]), so that its plot does not move while the layout stands.
-    bands: Option<Bands>,
+    /// The scene of the last canvas taken whole: a stream keeps what stays of its text bands
+    /// ([`Bands::kept`]) while the scene stands, so that its plot does not move.
+    scene: Option<Scene>,
 }
 
 /// What the mesh stage hands on.
@@ -51,7 +51,7 @@ impl MeshStage {
             built: None,
             next_id: 0,
             scratch: Vec::new(),
-            bands: None,
+            scene: None,
         }
     }
 
@@ -127,10 +127,8 @@ impl MeshStage {
             .structure
             .then(|| Structure::detect_with(image.as_ref(), self.options.regions));
         if let Some(s) = structure.as_mut().filter(|s| s.whole_canvas()) {
-            if let Some(before) = &self.bands {
-                s.bands = s.bands.kept(before);
-            }
-            self.bands = Some(s.bands.clone());
+            let now = std::mem::take(&mut s.bands);
+            s.bands = Scene::keep(&mut self.scene, image.size(), &s.text, now);
         }
         let (inc, mesh) = match structure {
             Some(s) if s.whole_canvas() && points.is_empty() && rings.is_empty() => {
