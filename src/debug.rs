@@ -240,7 +240,7 @@ fn bands_json(b: &crate::structure::Bands) -> serde_json::Value {
         "margins_x": b.margins_x, "margins_y": b.margins_y, "free": b.free,
         "plots_x": b.plots_x, "plots_y": b.plots_y, "blank_x": b.blank_x, "blank_y": b.blank_y,
         "type_x": b.type_x, "type_y": b.type_y,
-        "panels": b.panels.as_ref().map(|p| p.leaves().iter().map(|l| serde_json::json!({"rect": l.rect, "plots": l.plots, "type": l.type_spans, "blank": l.blank})).collect::<Vec<_>>()),
+        "panels": b.panels.as_ref().map(|p| p.leaves().iter().map(|l| serde_json::json!({"rect": l.rect, "plots": l.plots, "type": l.type_spans, "blank": l.blank, "card": l.card.as_ref().map(|c| serde_json::json!({"frame": c.frame, "inner": c.inner, "body": c.body, "stretch": c.stretch}))})).collect::<Vec<_>>()),
     })
 }
 

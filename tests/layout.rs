@@ -283,3 +283,63 @@ fn the_panels_of_a_dashboard_lay_themselves_out() {
     let plain = retarget(&img, target, &Options::default().with_layout(false)).unwrap();
     assert!(plain.stats.fitted.is_some());
 }
+
+const GROUND: [u8; 4] = [240, 240, 240, 255];
+const BLUE: [u8; 4] = [31, 119, 180, 255];
+
+/// A page of two cards on a grey ground, each a white box with a grey frame, a title at its
+/// top and a body under it: a round blob (a map's, whose aspect is data) in the left card,
+/// a block of bars in the right one.
+fn cards() -> Image {
+    let mut img = Image::filled(Size::new(800, 500).unwrap(), GROUND);
+    for x0 in [10, 405] {
+        rect(&mut img, x0, 10, x0 + 385, 490, [200, 200, 200, 255]);
+        rect(&mut img, x0 + 1, 11, x0 + 384, 489, [255; 4]);
+    }
+    draw_label(&mut img, 26.0, 22.0, LABEL_PX, "Sales by state");
+    draw_label(&mut img, 421.0, 22.0, LABEL_PX, "Best sellers");
+    disc(&mut img, 200.0, 270.0, 90.0, BLUE);
+    for i in 0..5 {
+        let y = 110 + i * 60;
+        rect(&mut img, 440, y, 760 - 40 * i, y + 30, DOT);
+    }
+    img
+}
+
+/// A dashboard of cards lays each card out in its slot (a responsive page's reflow, not a
+/// letterbox): at 60 % height every card fills its slot, its title keeps its type size, and
+/// its body keeps one scale (the blob stays round), larger than the letterbox draws it.
+#[test]
+fn a_page_of_cards_lays_each_card_out_in_its_slot() {
+    let img = cards();
+    let target = Size::new(800, 300).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap();
+    assert_eq!(out.stats.fitted, None, "laid out, not letterboxed");
+    assert!(out.stats.panels >= 2, "{} panels", out.stats.panels);
+    let out = out.image;
+    // The cards reach the sides of the target (a letterbox leaves 160 px of ground there),
+    // and the left card's frame runs from the top of its slot to the bottom.
+    assert!(out.get(20, 150) != GROUND && out.get(780, 150) != GROUND);
+    let framed = |y: u32| out.get(100, y) != GROUND;
+    assert!(
+        framed(12) && framed(288),
+        "the card fills its slot's height"
+    );
+    // Its title keeps its height.
+    let src = ink_rows(&img, [20, 200], [15, 60]).unwrap();
+    let now = ink_rows(&out, [5, 200], [10, 50]).expect("the title's ink");
+    assert!(
+        (now[1] - now[0]).abs_diff(src[1] - src[0]) <= 1,
+        "title height kept: {now:?} against {src:?}"
+    );
+    // The blob keeps one scale, as tall as it is wide, and more than the letterbox's 0.6.
+    let blue = |x: u32, y: u32| {
+        let p = out.get(x, y);
+        p[2] > 150 && p[0] < 90
+    };
+    let cols: Vec<u32> = (0..400).filter(|&x| (0..300).any(|y| blue(x, y))).collect();
+    let rows: Vec<u32> = (0..300).filter(|&y| (0..400).any(|x| blue(x, y))).collect();
+    let (w, h) = (cols.len() as f64, rows.len() as f64);
+    assert!((w / h - 1.0).abs() < 0.08, "blob {w} x {h}");
+    assert!(w > 180.0 * 0.66, "blob {w} wide, letterboxed 108");
+}

@@ -304,9 +304,17 @@ impl AxisMap {
             .chain(parts_spans.iter().map(|&o| (o, part, true)))
             .collect();
         spans.sort_by_key(|s| s.0[0]);
+        AxisMap::of_spans(n, m, &spans)
+    }
+
+    /// The map of `n` source pixels onto `m` that takes each of `spans` (`(span, scale,
+    /// kept)`, sorted, tiling `0..n`) at its scale, a span kept at its size (`kept` and scale
+    /// 1) starting on a whole output pixel; linear where rounding would fold it.
+    pub(crate) fn of_spans(n: u32, m: u32, spans: &[([u32; 2], f64, bool)]) -> AxisMap {
+        let (nf, mf) = (n as f64, m as f64);
         let mut knots = vec![[0.0, 0.0]];
         let mut out = 0.0;
-        for &([a, e], k, kept) in &spans {
+        for &([a, e], k, kept) in spans {
             // A part kept at its size starts on a whole pixel (the stretch before gives or
             // takes the fraction).
             if kept && (k - 1.0).abs() < 1e-9 && a > 0 {
@@ -441,12 +449,12 @@ fn edge_gaps<'a>(
 }
 
 /// The half-open spans of `[0, n)` that none of `spans` (sorted, not overlapping) covers.
-fn complement(n: u32, spans: &[[u32; 2]]) -> Vec<[u32; 2]> {
+pub(super) fn complement(n: u32, spans: &[[u32; 2]]) -> Vec<[u32; 2]> {
     complement_within([0, n], spans)
 }
 
 /// The pieces of `span` that none of `cuts` (sorted, not overlapping) covers.
-fn complement_within([a, b]: [u32; 2], cuts: &[[u32; 2]]) -> Vec<[u32; 2]> {
+pub(super) fn complement_within([a, b]: [u32; 2], cuts: &[[u32; 2]]) -> Vec<[u32; 2]> {
     let mut out = Vec::new();
     let mut at = a;
     for c in cuts.iter().filter(|c| c[1] > a && c[0] < b) {

@@ -239,7 +239,7 @@ pub(crate) fn area_text_layout(
             {
                 return None;
             }
-            let s = scale[i].filter(|&s| s >= MIN_TEXT_FLOAT)?;
+            let s = scale[i].filter(|&s| s >= layout.least_float)?;
             let b = layout.placed(i, s, shift[i])?;
             Some(TextPlacement {
                 centre: DVec2::new((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0),
@@ -282,6 +282,9 @@ struct TextLayout<'a> {
     anchors: Vec<f64>,
     /// The output canvas, which every block is kept inside.
     size: (f64, f64),
+    /// Least scale a block floats at ([`MIN_TEXT_FLOAT`]; on a page of cards, where text
+    /// that cannot float leaves the page to a letterbox, the letterbox's scale where less).
+    least_float: f64,
     /// Thin crowded rows of tick labels ([`TextLayout::thin`]).
     thinning: bool,
 }
@@ -330,6 +333,14 @@ impl<'a> TextLayout<'a> {
             anchors,
             size: (target.width as f64, target.height as f64),
             thinning: false,
+            least_float: match st.bands.panels.as_ref().and_then(|p| p.split.as_ref()) {
+                Some(split) if split.own => {
+                    let (w, h) = (src.width() as f64, src.height() as f64);
+                    let letterbox = (target.width as f64 / w).min(target.height as f64 / h);
+                    MIN_TEXT_FLOAT.min(letterbox)
+                }
+                _ => MIN_TEXT_FLOAT,
+            },
         }
     }
 
@@ -541,7 +552,7 @@ impl<'a> TextLayout<'a> {
         let text = self.text;
         for _ in 0..MAKE_ROOM_ROUNDS {
             let floating: Vec<&TextBlock> = (0..text.len())
-                .filter(|&j| room.scale[j].is_some_and(|s| s >= MIN_TEXT_FLOAT))
+                .filter(|&j| room.scale[j].is_some_and(|s| s >= self.least_float))
                 .map(|j| &text[j])
                 .collect();
             let mut boxes: Vec<Option<[f64; 4]>> = (0..text.len())
@@ -635,7 +646,7 @@ impl<'a> TextLayout<'a> {
             self.words[i]
                 && !self.in_plot(i)
                 && on_canvas(&text[i])
-                && scale[i].is_none_or(|s| s < MIN_TEXT_FLOAT)
+                && scale[i].is_none_or(|s| s < self.least_float)
         });
         if refused {
             for (i, s) in scale.iter_mut().enumerate() {

@@ -8,7 +8,7 @@
 
 use super::canvas::{AxisMap, CanvasMap, PanelMap};
 use crate::image::Size;
-use crate::structure::{Panel, Structure};
+use crate::structure::{Card, Panel, Structure};
 
 /// The map of a canvas taken whole: its panels' ([`laid_out`]) where gutters split its
 /// plots apart and that lays anything out, else the picture's own ([`CanvasMap::new`]).
@@ -28,10 +28,14 @@ pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<Canva
     // squeezed as no part of a chart is: the picture is then not laid out by panels at all
     // (judged blind, a squeezed county map, sprite field or table lost to the letterbox).
     let shrinks = [target.width < source.width, target.height < source.height];
-    if root
-        .leaves()
-        .iter()
-        .any(|l| (0..2).any(|k| shrinks[k] && untyped(l, k)))
+    // Cards keep what is not a plot at one scale ([`card_maps`]): nothing of theirs is
+    // squeezed.
+    let cards = root.split.as_ref().is_some_and(|s| s.own);
+    if !cards
+        && root
+            .leaves()
+            .iter()
+            .any(|l| (0..2).any(|k| shrinks[k] && untyped(l, k)))
     {
         return None;
     }
@@ -51,11 +55,35 @@ pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<Canva
         };
         ends(&p.x, &linear.x, p.src[0], p.src[2]) && ends(&p.y, &linear.y, p.src[1], p.src[3])
     };
-    if panels.iter().all(as_linear) {
+    if panels.iter().all(as_linear) || (cards && !bodies_grow(root, &panels, source, target)) {
         return None;
     }
     Some(CanvasMap { panels, ..linear })
 }
+
+/// Whether the cards' bodies, kept at one scale each, come out larger than the letterbox
+/// draws them, by [`LEAST_BODY_GROWTH`] on average over their area. Where the target
+/// narrows a page whose cards are as wide as their content, the room a card gains is
+/// height its body cannot use (judged blind: the reflow's empty halves of cards lost to the
+/// letterbox at half width, and won where the target's height shrank and the cards'
+/// paddings gave way).
+fn bodies_grow(root: &Panel, panels: &[PanelMap], source: Size, target: Size) -> bool {
+    let letterbox = (target.width as f64 / source.width as f64)
+        .min(target.height as f64 / source.height as f64);
+    let (mut area, mut scaled) = (0.0, 0.0);
+    for (leaf, map) in root.leaves().iter().zip(panels) {
+        let Some(b) = leaf.body() else { continue };
+        let a = (b[2] - b[0]) as f64 * (b[3] - b[1]) as f64;
+        let cx = (b[0] + b[2]) as f64 / 2.0;
+        area += a;
+        scaled += a * map.x.slope(cx);
+    }
+    area <= 0.0 || scaled / area >= letterbox * (1.0 + LEAST_BODY_GROWTH)
+}
+
+/// Least growth of the cards' bodies over the letterbox for the page to be laid out as
+/// cards: a body a few percent larger is hardly seen, the reflow's seams are.
+const LEAST_BODY_GROWTH: f64 = 0.1;
 
 /// Lays out `p` in `slot`, following the maps an enclosing panel cut along each axis
 /// (`given`), and pushes its leaves' maps onto `out`.
@@ -63,7 +91,12 @@ fn lay(p: &Panel, slot: [u32; 4], given: [Option<AxisMap>; 2], out: &mut Vec<Pan
     let maps: [AxisMap; 2] =
         std::array::from_fn(|k| given[k].clone().unwrap_or_else(|| own(p, slot, k)));
     let Some(split) = &p.split else {
-        let [x, y] = maps;
+        let [x, y] = match &p.card {
+            Some(card) if p.plots[0].is_empty() || p.plots[1].is_empty() => {
+                card_maps(p, card, slot)
+            }
+            _ => maps,
+        };
         out.push(PanelMap {
             src: p.rect,
             slot,
@@ -86,8 +119,125 @@ fn lay(p: &Panel, slot: [u32; 4], given: [Option<AxisMap>; 2], out: &mut Vec<Pan
         s[k + 2] = (cut_map.apply(c.rect[k + 2] as f64).round() as u32).clamp(s[k], slot[k + 2]);
         let mut g = given.clone();
         g[k] = Some(cut_map.clone());
+        if split.own {
+            g = [None, None];
+        }
         lay(c, s, g, out);
     }
+}
+
+/// The maps of card `p` (its `card`) onto `slot`, both axes at once: its body keeps one
+/// scale, the largest at which it fits beside its type kept at its size (its blank runs,
+/// the frame's padding and the page's gutters, giving way down to [`LEAST_BLANK_SHARE`] of
+/// the slot's scale), never over its own size; where its type does not fit at its size,
+/// all of it at the scale of the whole card fitted in the slot (a letterbox of the card).
+/// The blank runs take what is left, so the card fills its slot and its frame its edges.
+fn card_maps(p: &Panel, card: &Card, slot: [u32; 4]) -> [AxisMap; 2] {
+    let body = card.body.unwrap_or([[p.rect[0]; 2], [p.rect[1]; 2]]);
+    // Along each axis, local to the card: the body, the type outside it, the rest.
+    let parts: [(f64, f64, f64, f64); 2] = std::array::from_fn(|k| {
+        let (a, n) = (p.rect[k], (p.rect[k + 2] - p.rect[k]) as f64);
+        let m = (slot[k + 2] - slot[k]) as f64;
+        let b = (body[k][1] - body[k][0]) as f64;
+        let typed: f64 = (p.type_spans[k].iter())
+            .flat_map(|t| outside(*t, body[k]))
+            .map(|t| (t[1].min(p.rect[k + 2]).saturating_sub(t[0].max(a))) as f64)
+            .sum();
+        (n, m, b, typed.min(n - b))
+    });
+    let fits = |(n, m, b, typed): (f64, f64, f64, f64)| {
+        let blank = n - b - typed;
+        match b > 0.0 {
+            true => (m - typed - blank * LEAST_BLANK_SHARE * (m / n).min(1.0)) / b,
+            false => f64::INFINITY,
+        }
+    };
+    let letterbox = (parts[0].1 / parts[0].0).min(parts[1].1 / parts[1].0);
+    let s = fits(parts[0]).min(fits(parts[1])).min(1.0);
+    let (s, ts) = match s >= letterbox {
+        true => (s, 1.0),
+        false => (letterbox, letterbox),
+    };
+    std::array::from_fn(|k| {
+        let (a, (n, m, _, _)) = (p.rect[k], parts[k]);
+        let local = |sp: [u32; 2]| {
+            [
+                sp[0].clamp(a, p.rect[k + 2]) - a,
+                sp[1].clamp(a, p.rect[k + 2]) - a,
+            ]
+        };
+        let b = local(body[k]);
+        let typed: Vec<[u32; 2]> = (p.type_spans[k].iter())
+            .flat_map(|t| outside(*t, body[k]))
+            .map(local)
+            .filter(|t| t[0] < t[1])
+            .collect();
+        let mut spans: Vec<([u32; 2], f64, bool)> = vec![(b, s, false)];
+        spans.extend(typed.iter().map(|&t| (t, ts, true)));
+        let mut taken: Vec<[u32; 2]> = spans.iter().map(|x| x.0).filter(|x| x[0] < x[1]).collect();
+        taken.sort_unstable();
+        let blank = super::canvas::complement(n as u32, &taken);
+        let blank_len: f64 = blank.iter().map(|g| (g[1] - g[0]) as f64).sum();
+        let used =
+            (b[1] - b[0]) as f64 * s + typed.iter().map(|t| (t[1] - t[0]) as f64).sum::<f64>() * ts;
+        let room = m - used;
+        // Room over: a line of the card's fill before its body and one after its content
+        // take it (the body centred under its title; the frame, the title and the paddings
+        // at their size, in line with the next card's); room short, or no such line:
+        // every blank run gives way alike.
+        let edges: Vec<[u32; 2]> = (card.stretch[k].iter().flatten())
+            .filter(|&&l| l >= a && l < p.rect[k + 2])
+            .map(|&l| [l - a, l - a + 1])
+            .filter(|e| blank.iter().any(|g| g[0] <= e[0] && e[1] <= g[1]))
+            .collect();
+        let blank: Vec<[u32; 2]> = match room >= blank_len && !edges.is_empty() {
+            true => {
+                let mut pieces: Vec<[u32; 2]> = (blank.iter())
+                    .flat_map(|&g| super::canvas::complement_within(g, &edges))
+                    .collect();
+                pieces.extend(edges.iter().copied());
+                pieces.sort_unstable();
+                pieces
+            }
+            false => blank,
+        };
+        let scales: Vec<f64> = match room >= blank_len && !edges.is_empty() {
+            true => {
+                let extra = (room - blank_len) / edges.len() as f64;
+                (blank.iter())
+                    .map(|g| match edges.contains(g) {
+                        true => 1.0 + extra,
+                        false => 1.0,
+                    })
+                    .collect()
+            }
+            false => {
+                let g = match blank_len > 0.0 {
+                    true => (room / blank_len).max(0.0),
+                    false => 0.0,
+                };
+                vec![g; blank.len()]
+            }
+        };
+        spans.extend(blank.iter().zip(scales).map(|(&r, g)| (r, g, false)));
+        spans.retain(|x| x.0[0] < x.0[1]);
+        spans.sort_by_key(|x| x.0[0]);
+        let map = match blank_len > 0.0 {
+            true => AxisMap::of_spans(n as u32, m as u32, &spans),
+            false => AxisMap::linear(n as u32, m as u32),
+        };
+        map.moved([a as f64, slot[k] as f64])
+    })
+}
+
+/// Least scale of a card's blank runs, as a share of its slot's (at most 1).
+const LEAST_BLANK_SHARE: f64 = 0.25;
+
+/// The parts of span `t` outside span `b`.
+fn outside(t: [u32; 2], b: [u32; 2]) -> impl Iterator<Item = [u32; 2]> {
+    [[t[0], t[1].min(b[0])], [t[0].max(b[1]), t[1]]]
+        .into_iter()
+        .filter(|s| s[0] < s[1])
 }
 
 /// Whether panel `p`'s drawn content along axis `k` outside its plots and blank runs

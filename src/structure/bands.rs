@@ -168,7 +168,15 @@ impl Bands {
     /// area's rectangle (a label on a mark, a cell's value; not the tick labels beside it).
     pub fn in_plot(&self, t: &super::TextBlock) -> bool {
         let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
-        (self.plot_rects.iter()).any(|r| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy))
+        let inside = |r: &[u32; 4]| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy);
+        // A card's body keeps one scale: its text (a map's names, a table's cells) goes
+        // with it, as a plot's does.
+        self.plot_rects.iter().any(inside)
+            || (self.panels.iter()).any(|p| {
+                p.leaves()
+                    .iter()
+                    .any(|l| l.body().is_some_and(|r| inside(&r)))
+            })
     }
 }
 
@@ -227,7 +235,7 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
     let at_edge = |g: &[u32; 2], n: u32| g[0] == 0 || g[1] == n;
     let edges =
         bands.gaps_x.iter().any(|g| at_edge(g, w)) || bands.gaps_y.iter().any(|g| at_edge(g, h));
-    let ground = if edges { ground(image) } else { [0; 3] };
+    let ground = if edges { ground_of(image) } else { [0; 3] };
     let page = |g: &&[u32; 2], n: u32, columns: bool| {
         at_edge(g, n) && mostly_ground(image, **g, columns, ground)
     };
@@ -251,7 +259,10 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         })
         .filter(|&r| super::panels::labelled(r, text))
         .collect();
-    bands.panels = super::panels::detect(image, text, areas);
+    // Cards on a page's ground lay themselves out each in its slot; else the panels of a
+    // figure, between its plots.
+    bands.panels = super::cards::detect(image, text, &bands.plot_rects, ground_of(image))
+        .or_else(|| super::panels::detect(image, text, areas));
     if text.is_empty() {
         // Without text no part is kept (it holds no type) and the layout declines unless the
         // plots reach the edge's margins: those are its blank runs (not read again: a
@@ -290,7 +301,7 @@ fn around_text(
 }
 
 /// The picture's ground: the colour most of its border pixels have.
-fn ground(image: ImageRef<'_>) -> [u8; 3] {
+pub(super) fn ground_of(image: ImageRef<'_>) -> [u8; 3] {
     let (w, h, px) = (
         image.width() as usize,
         image.height() as usize,

@@ -10,6 +10,7 @@
 
 mod areas;
 mod bands;
+mod cards;
 mod lines;
 mod luma;
 mod mask;
@@ -20,7 +21,7 @@ mod text;
 pub use areas::{AreaKind, DataArea};
 pub use bands::{Bands, Scene};
 pub use lines::Line;
-pub use panels::{Panel, Split};
+pub use panels::{Card, Panel, Split};
 pub use text::TextBlock;
 pub(crate) use text::ALIGNED_PX;
 

@@ -33,6 +33,26 @@ pub struct Panel {
     pub blank: [Vec<[u32; 2]>; 2],
     /// Its parts, where a gutter between its plots splits it.
     pub split: Option<Split>,
+    /// A dashboard's card (a framed or filled box on the page's ground, [`super::cards`]):
+    /// where it holds no plot, its body keeps one scale in its slot.
+    pub card: Option<Card>,
+}
+
+/// What a card's layout needs beyond a panel's: the spans its body covers.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Card {
+    /// Along x (`[0]`) and y (`[1]`): the span from the first to the last line of the card's
+    /// inside holding ink outside its text (a map, a treemap, a table's rules, icons), in
+    /// picture coordinates; `None` for a card of text alone.
+    pub body: Option<[[u32; 2]; 2]>,
+    /// The card's box (`[x0, y0, x1, y1]`, its frame or fill's extent) and its inside (the
+    /// box less the plain lines along its edges: padding, the frame's lines).
+    pub frame: [u32; 4],
+    pub inner: [u32; 4],
+    /// Along each axis, a line of the card's fill just before its body and one just after
+    /// its content, where there are: where the room the card gains goes (the body centred
+    /// under its title, nothing smeared but the fill).
+    pub stretch: [[Option<u32>; 2]; 2],
 }
 
 /// A panel's parts, side by side along one axis.
@@ -42,9 +62,20 @@ pub struct Split {
     pub columns: bool,
     /// In order along that axis; they tile the panel.
     pub parts: Vec<Panel>,
+    /// Each part lays itself out in its slot along both axes (cards, which need not line
+    /// up), rather than following the panel's map along the cut (plots side by side share
+    /// their scale).
+    pub own: bool,
 }
 
 impl Panel {
+    /// The rectangle of a card's body where it keeps one scale (a card without plots).
+    pub fn body(&self) -> Option<[u32; 4]> {
+        let b = self.card.as_ref()?.body?;
+        (self.plots[0].is_empty() || self.plots[1].is_empty())
+            .then_some([b[0][0], b[1][0], b[0][1], b[1][1]])
+    }
+
     /// The leaves, in reading order.
     pub fn leaves(&self) -> Vec<&Panel> {
         match &self.split {
@@ -159,6 +190,7 @@ fn panel(
         type_spans,
         blank,
         split: None,
+        card: None,
     };
     // Only a panel of two plots or more splits: a plot with its labels and legend is one
     // panel, laid out around its plot.
@@ -213,6 +245,7 @@ fn panel(
     me.split = Some(Split {
         columns: k == 0,
         parts,
+        own: false,
     });
     me
 }
@@ -220,7 +253,7 @@ fn panel(
 /// `spans` grown over the extent along axis `k` of a word across either of their ends (a
 /// tick label centred on a plot's first tick goes with the plot), once: the words that
 /// overlap that label (the other axis' tick labels beside it) stay outside.
-fn grown_over(spans: &[[u32; 2]], words: &[[u32; 4]], k: usize) -> Vec<[u32; 2]> {
+pub(super) fn grown_over(spans: &[[u32; 2]], words: &[[u32; 4]], k: usize) -> Vec<[u32; 2]> {
     let grown = spans.iter().map(|&[lo, hi]| {
         let across = |p: u32| words.iter().filter(move |t| t[k] < p && t[k + 2] > p);
         let lo = across(lo).map(|t| t[k]).min().unwrap_or(lo).min(lo);
@@ -231,12 +264,12 @@ fn grown_over(spans: &[[u32; 2]], words: &[[u32; 4]], k: usize) -> Vec<[u32; 2]>
 }
 
 /// Whether `p` lies in one of `spans` (half-open).
-fn inside(spans: &[[u32; 2]], p: u32) -> bool {
+pub(super) fn inside(spans: &[[u32; 2]], p: u32) -> bool {
     spans.iter().any(|s| s[0] <= p && p < s[1])
 }
 
 /// For each column (`columns`) or row of `rect`: whether it is one colour across the rect.
-fn clean_lines(image: ImageRef<'_>, rect: [u32; 4], columns: bool) -> Vec<bool> {
+pub(super) fn clean_lines(image: ImageRef<'_>, rect: [u32; 4], columns: bool) -> Vec<bool> {
     let w = image.width() as usize;
     let px = image.pixels();
     let [x0, y0, x1, y1] = rect.map(|v| v as usize);
