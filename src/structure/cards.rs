@@ -238,11 +238,14 @@ impl Page<'_> {
             (inner, body, stretch)
         });
         match inside {
-            Some((inner, body, stretch)) => {
+            // A box of its fill alone (a bar, a heat map's cell, a swatch) is a mark, drawn
+            // on the ground as the rest of a chart is: no page of cards.
+            Some((None, _, _)) => None,
+            Some((Some(inner), body, stretch)) => {
                 me.card = Some(Card {
                     body,
                     frame: boxed,
-                    inner: inner.unwrap_or(boxed),
+                    inner,
                     stretch,
                 });
                 me.blank = std::array::from_fn(|k| {
@@ -481,8 +484,8 @@ mod tests {
         }
     }
 
-    /// Ink standing on the ground outside any box (a chart drawn on the page itself) is no
-    /// page of cards.
+    /// Ink standing on the ground outside any box (a chart drawn on the page itself), or
+    /// boxes of their fill alone (a histogram's bars), are no page of cards.
     #[test]
     fn ink_on_the_ground_is_no_card() {
         let mut img = Image::filled(Size::new(400, 200).unwrap(), GROUND);
@@ -491,5 +494,14 @@ mod tests {
         fill(&mut img, [230, 40, 232, 180], [0, 0, 0, 255]);
         fill(&mut img, [260, 100, 280, 120], [200, 30, 30, 255]);
         assert!(detect(img.as_ref(), &[], &[], [240, 240, 240]).is_none());
+        let mut bars = Image::filled(Size::new(400, 200).unwrap(), GROUND);
+        for i in 0..8 {
+            fill(
+                &mut bars,
+                [20 + 45 * i, 150 - 15 * i, 55 + 45 * i, 190],
+                [150, 100, 200, 255],
+            );
+        }
+        assert!(detect(bars.as_ref(), &[], &[], [240, 240, 240]).is_none());
     }
 }
