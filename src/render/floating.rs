@@ -285,6 +285,8 @@ struct TextLayout<'a> {
     /// Least scale a block floats at ([`MIN_TEXT_FLOAT`]; on a page of cards, where text
     /// that cannot float leaves the page to a letterbox, the letterbox's scale where less).
     least_float: f64,
+    /// The page is laid out as cards ([`crate::structure::Panel::body`]).
+    cards: bool,
     /// Thin crowded rows of tick labels ([`TextLayout::thin`]).
     thinning: bool,
 }
@@ -323,6 +325,10 @@ impl<'a> TextLayout<'a> {
         let anchors = (0..text.len())
             .map(|i| anchor(src, text, grounds[i].0, i))
             .collect();
+        // Laid out as cards (which may decline, and then are not).
+        let cards = (st.bands.panels.as_ref().and_then(|p| p.split.as_ref()))
+            .is_some_and(|split| split.own)
+            && maps.canvas.is_some_and(|c| !c.panels.is_empty());
         TextLayout {
             src,
             st,
@@ -333,14 +339,15 @@ impl<'a> TextLayout<'a> {
             anchors,
             size: (target.width as f64, target.height as f64),
             thinning: false,
-            least_float: match st.bands.panels.as_ref().and_then(|p| p.split.as_ref()) {
-                Some(split) if split.own => {
+            least_float: match cards {
+                true => {
                     let (w, h) = (src.width() as f64, src.height() as f64);
                     let letterbox = (target.width as f64 / w).min(target.height as f64 / h);
                     MIN_TEXT_FLOAT.min(letterbox)
                 }
-                _ => MIN_TEXT_FLOAT,
+                false => MIN_TEXT_FLOAT,
             },
+            cards,
         }
     }
 
@@ -396,7 +403,8 @@ impl<'a> TextLayout<'a> {
     /// ([`crate::structure::Bands::in_plot`]): a label on a mark, a cell's value.
     fn in_plot(&self, i: usize) -> bool {
         let t = &self.text[i];
-        self.on_canvas(t) && self.st.bands.in_plot(t)
+        self.on_canvas(t)
+            && (self.st.bands.in_plot(t) || (self.cards && self.st.bands.in_card_body(t)))
     }
 
     /// Whether block `t` lies on a canvas taken whole.

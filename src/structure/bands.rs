@@ -169,14 +169,16 @@ impl Bands {
     pub fn in_plot(&self, t: &super::TextBlock) -> bool {
         let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
         let inside = |r: &[u32; 4]| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy);
-        // A card's body keeps one scale: its text (a map's names, a table's cells) goes
-        // with it, as a plot's does.
         self.plot_rects.iter().any(inside)
-            || (self.panels.iter()).any(|p| {
-                p.leaves()
-                    .iter()
-                    .any(|l| l.body().is_some_and(|r| inside(&r)))
-            })
+    }
+
+    /// Whether text block `t` stands inside the body of a card ([`super::cards`]), which
+    /// keeps one scale where the page is laid out as cards: its text (a map's names, a
+    /// table's cells) goes with it, as a plot's does.
+    pub fn in_card_body(&self, t: &super::TextBlock) -> bool {
+        let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
+        let inside = |r: [u32; 4]| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy);
+        (self.panels.iter()).any(|p| p.leaves().iter().any(|l| l.body().is_some_and(inside)))
     }
 }
 
