@@ -248,10 +248,14 @@ impl Page<'_> {
                     inner,
                     stretch,
                 });
-                me.blank = std::array::from_fn(|k| {
-                    let clean = clean_lines(self.image, rect, k == 0);
-                    runs_where(rect[k], rect[k + 2], |p| clean[(p - rect[k]) as usize])
-                });
+                // Its blank runs, for a card laid out around its plots (a card without
+                // plots finds its own, beside its body).
+                if !me.plots[0].is_empty() && !me.plots[1].is_empty() {
+                    me.blank = std::array::from_fn(|k| {
+                        let clean = clean_lines(self.image, rect, k == 0);
+                        runs_where(rect[k], rect[k + 2], |p| clean[(p - rect[k]) as usize])
+                    });
+                }
                 Some(me)
             }
             None => {
