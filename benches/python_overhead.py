@@ -76,9 +76,8 @@ def main() -> None:
     a = p.parse_args()
     rgb = still()
     rgba = np.ascontiguousarray(np.dstack([rgb, np.full(rgb.shape[:2], 255, np.uint8)]))
-    pil = Image.fromarray(rgb)
     size = (618, 744)
-    cases = {"numpy RGBA": rgba, "numpy RGB": rgb, "PIL RGB": pil}
+    cases = {"numpy RGBA": rgba, "numpy RGB": rgb, "PIL RGBA": Image.fromarray(rgba), "PIL RGB": Image.fromarray(rgb)}
     recorder = Recorder()
     vizretarget._native = recorder
     for x in cases.values():  # warm up
