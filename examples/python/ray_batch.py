@@ -67,7 +67,13 @@ def run(src: str, dst: str, sizes: List[str], batch_size: int = 50) -> List[Dict
         raise SystemExit(f"{src}: no pictures (PNG, JPEG, WebP, GIF)")
     for size in sizes:
         os.makedirs(os.path.join(dst, size_dir(size)), exist_ok=True)
-    ds = ray.data.from_items([{"path": p} for p in paths])
+    # One block a batch: by default Ray Data makes a block of each item (200 here), and
+    # bundling 50 of them into a batch costs the driver and the object store far more than
+    # the batch function that does nothing (1.5 to 2.0 s of wall time against 0.2 over 200
+    # items in batches of 50, on 2 CPUs).
+    ds = ray.data.from_items(
+        [{"path": p} for p in paths], override_num_blocks=max(1, -(-len(paths) // batch_size))
+    )
     ds = ds.map_batches(
         retarget_batch,
         fn_kwargs={"dst": os.path.abspath(dst), "sizes": sizes},

@@ -79,3 +79,19 @@ def test_a_batch_stops_at_the_first_error_after_writing_what_came_before(tmp_pat
         vizretarget.retarget_files([(src, tmp_path / "a.png"), ("-", tmp_path / "b.png")], "50%")
     with pytest.raises(OSError):  # the folder to write into is missing
         vizretarget.retarget_files([(src, tmp_path / "no" / "such" / "a.png")], "50%")
+
+
+def test_a_batch_reads_ahead_but_makes_nothing_for_the_jobs_after_an_error(tmp_path) -> None:
+    # Each picture is read while the one before it is retargeted. One into a folder keeps
+    # its name; a folder is made only once the jobs before it went through.
+    src = STREAMS / "dashboard" / "frame-0003.png"
+    done = vizretarget.retarget_files([(src, tmp_path / "a.png"), (src, f"{tmp_path / 'into'}/")], "50%")
+    assert [d["frames"] for d in done] == [1, 1]
+    assert (tmp_path / "into" / "frame-0003.png").read_bytes() == (tmp_path / "a.png").read_bytes()
+    # A stream that fails when it opens its output (on the calling thread, after the
+    # picture behind it was read).
+    with pytest.raises(OSError):
+        vizretarget.retarget_files(
+            [(STREAMS / "dashboard", tmp_path / "no" / "such.gif"), (src, f"{tmp_path / 'later'}/")], "50%"
+        )
+    assert not (tmp_path / "later").exists()
