@@ -210,22 +210,23 @@ enum Prepared {
 /// A job up to the decoding of its picture; for a stream, what sink it writes.
 fn prepare(job: &Job) -> PyResult<Prepared> {
     let destination = resolve_output(&job.dst, OutputChoice::Auto).map_err(to_py)?;
-    let frames = frame_count(&job.src, &job.limits).map_err(to_py)?;
-    match (destination, frames) {
-        (Destination::Still(format), Some(1)) => read(job, job.dst.clone(), format),
-        (Destination::Still(_), Some(n)) => Err(PyValueError::new_err(format!(
+    match (destination, shape(&job.src, &job.limits).map_err(to_py)?) {
+        (Destination::Still(format), Shape::Picture | Shape::UnreadableGif) => {
+            read(job, job.dst.clone(), format)
+        }
+        (Destination::Still(_), Shape::Animation(n)) => Err(PyValueError::new_err(format!(
             "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a \
              .gif, or a folder (ending in /) for one PNG per frame",
             job.src.display(),
             job.dst.display()
         ))),
-        (Destination::Still(_), None) => Err(PyValueError::new_err(format!(
+        (Destination::Still(_), Shape::Folder) => Err(PyValueError::new_err(format!(
             "{}: one picture cannot hold a folder of frames: write a .gif or a folder \
              (ending in /)",
             job.dst.display()
         ))),
         // One picture into a folder keeps its name, as a folder of frames does.
-        (Destination::Stream(SinkFormat::PngSeq), Some(1)) => {
+        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) => {
             let stem = job
                 .src
                 .file_stem()
@@ -271,22 +272,40 @@ fn finish(job: &Job, prepared: Prepared) -> PyResult<Step> {
     }
 }
 
-/// How many frames `src` holds when it is one file (a GIF is counted without decoding;
-/// another picture is one), `None` for a folder.
-fn frame_count(src: &Path, limits: &Limits) -> Result<Option<u64>, Error> {
+/// What a source holds, as the command line tells it (`src/cli/input.rs`, `Shape`) to
+/// choose between a picture and a stream.
+enum Shape {
+    /// A PNG, JPEG or WebP file, or a GIF of one frame.
+    Picture,
+    /// A GIF of this many frames (more than one).
+    Animation(u64),
+    /// A folder of frames.
+    Folder,
+    /// A GIF whose blocks cannot be walked to the end: one picture if one is asked for (the
+    /// reader names what is wrong), else a stream, which keeps the frames before the fault.
+    UnreadableGif,
+}
+
+/// What `src` holds: a file by its first bytes, a GIF's frames counted without decoding.
+fn shape(src: &Path, limits: &Limits) -> Result<Shape, Error> {
     if src.is_dir() {
-        return Ok(None);
+        return Ok(Shape::Folder);
     }
     let mut head = Vec::new();
+    // A file that cannot be read is a picture here: reading it names what is wrong.
     if let Ok(f) = std::fs::File::open(src) {
         use std::io::Read;
         let _ = f.take(16).read_to_end(&mut head);
     }
     if sniff(&head) != Some(Magic::Gif) {
-        return Ok(Some(1));
+        return Ok(Shape::Picture);
     }
     let gif = GifSource::open_with(src, limits)?;
-    Ok(Some(gif.len_hint().map_or(1, |n| n.max(1) as u64)))
+    Ok(match gif.len_hint() {
+        Some(n) if n <= 1 => Shape::Picture,
+        Some(n) => Shape::Animation(n as u64),
+        None => Shape::UnreadableGif,
+    })
 }
 
 /// One picture: checked from its header and decoded.
