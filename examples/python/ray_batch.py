@@ -104,7 +104,7 @@ def main(argv: List[str]) -> int:
     )
     p.add_argument("--address", default=None, help="a Ray cluster's address (auto, ray://...)")
     p.add_argument("--num-cpus", type=int, default=None, help="CPUs of a local Ray")
-    p.add_argument("--batch-size", type=int, default=50, help="pictures per task (Ray Data costs some 40 ms a batch)")
+    p.add_argument("--batch-size", type=int, default=50, help="pictures per task, one Ray Data block each")
     a = p.parse_args(argv)
     import ray
 
