@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use vizretarget::io::{
-    is_std, list_images, open_input_with, open_sink, probe_still, read_still_with, resolve_output,
-    sniff, write_still, Destination, FrameMarks, FrameRate, GifSource, InputFormat, InputKind,
-    Magic, MarkedSource, OutputChoice, OutputFormat, SinkFormat, SinkOptions,
+    is_std, list_images, open_input_with, open_sink, path_shape, probe_still, read_still_with,
+    resolve_output, write_still, Destination, FrameMarks, FrameRate, InputFormat, InputKind,
+    MarkedSource, OutputChoice, OutputFormat, PathShape, SinkFormat, SinkOptions,
 };
 use vizretarget::stream::{FrameSource, NoProgress};
 use vizretarget::{
@@ -210,23 +210,26 @@ enum Prepared {
 /// A job up to the decoding of its picture; for a stream, what sink it writes.
 fn prepare(job: &Job) -> PyResult<Prepared> {
     let destination = resolve_output(&job.dst, OutputChoice::Auto).map_err(to_py)?;
-    match (destination, shape(&job.src, &job.limits).map_err(to_py)?) {
-        (Destination::Still(format), Shape::Picture | Shape::UnreadableGif) => {
+    match (
+        destination,
+        path_shape(&job.src, &job.limits).map_err(to_py)?,
+    ) {
+        (Destination::Still(format), PathShape::Picture | PathShape::UnreadableGif) => {
             read(job, job.dst.clone(), format)
         }
-        (Destination::Still(_), Shape::Animation(n)) => Err(PyValueError::new_err(format!(
+        (Destination::Still(_), PathShape::Animation(n)) => Err(PyValueError::new_err(format!(
             "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a \
              .gif, or a folder (ending in /) for one PNG per frame",
             job.src.display(),
             job.dst.display()
         ))),
-        (Destination::Still(_), Shape::Folder) => Err(PyValueError::new_err(format!(
+        (Destination::Still(_), PathShape::Folder) => Err(PyValueError::new_err(format!(
             "{}: one picture cannot hold a folder of frames: write a .gif or a folder \
              (ending in /)",
             job.dst.display()
         ))),
         // One picture into a folder keeps its name, as a folder of frames does.
-        (Destination::Stream(SinkFormat::PngSeq), Shape::Picture) => {
+        (Destination::Stream(SinkFormat::PngSeq), PathShape::Picture) => {
             let stem = job
                 .src
                 .file_stem()
@@ -270,42 +273,6 @@ fn finish(job: &Job, prepared: Prepared) -> PyResult<Step> {
         }
         Prepared::Stream(format) => stream(job, format).map(Step::Done),
     }
-}
-
-/// What a source holds, as the command line tells it (`src/cli/input.rs`, `Shape`) to
-/// choose between a picture and a stream.
-enum Shape {
-    /// A PNG, JPEG or WebP file, or a GIF of one frame.
-    Picture,
-    /// A GIF of this many frames (more than one).
-    Animation(u64),
-    /// A folder of frames.
-    Folder,
-    /// A GIF whose blocks cannot be walked to the end: one picture if one is asked for (the
-    /// reader names what is wrong), else a stream, which keeps the frames before the fault.
-    UnreadableGif,
-}
-
-/// What `src` holds: a file by its first bytes, a GIF's frames counted without decoding.
-fn shape(src: &Path, limits: &Limits) -> Result<Shape, Error> {
-    if src.is_dir() {
-        return Ok(Shape::Folder);
-    }
-    let mut head = Vec::new();
-    // A file that cannot be read is a picture here: reading it names what is wrong.
-    if let Ok(f) = std::fs::File::open(src) {
-        use std::io::Read;
-        let _ = f.take(16).read_to_end(&mut head);
-    }
-    if sniff(&head) != Some(Magic::Gif) {
-        return Ok(Shape::Picture);
-    }
-    let gif = GifSource::open_with(src, limits)?;
-    Ok(match gif.len_hint() {
-        Some(n) if n <= 1 => Shape::Picture,
-        Some(n) => Shape::Animation(n as u64),
-        None => Shape::UnreadableGif,
-    })
 }
 
 /// One picture: checked from its header and decoded.
