@@ -2,8 +2,8 @@
 
     python benches/python_overhead.py [--pairs 200]
 
-Times `vizretarget.retarget(x, size)` from Python (an RGBA and an RGB array, and a PIL
-image) and the library's `vizretarget::retarget` on the same picture, timed in Rust inside
+Times `vizretarget.retarget(x, size)` from Python (an RGBA and an RGB array, an RGBA and
+an RGB PIL image) and the library's `vizretarget::retarget` on the same picture, timed in Rust inside
 the same extension (`_vizretarget._library_ms`: same allocator, same threads), in pairs one
 after the other, which goes first alternating (the first call after another is slower,
 whichever it is). The overhead is what the package adds: converting the picture in and
@@ -18,8 +18,8 @@ than the overhead, so two estimates are given:
   wall time less the stage total the library reports for that very frame,
   `FrameStats::times`): the load slows the stages, and this takes them out of both sides.
   What remains is the same on both sides (setting up the retargeter, one copy of the
-  picture: the library's `retarget` clones it, the package copies the array) but for
-  the package's own work.
+  picture: the library's `retarget` clones it, the package copies the array, or a PIL
+  image's pixels, which Pillow exports in place as Arrow) but for the package's own work.
 """
 
 from __future__ import annotations
@@ -76,9 +76,8 @@ def main() -> None:
     a = p.parse_args()
     rgb = still()
     rgba = np.ascontiguousarray(np.dstack([rgb, np.full(rgb.shape[:2], 255, np.uint8)]))
-    pil = Image.fromarray(rgb)
     size = (618, 744)
-    cases = {"numpy RGBA": rgba, "numpy RGB": rgb, "PIL RGB": pil}
+    cases = {"numpy RGBA": rgba, "numpy RGB": rgb, "PIL RGBA": Image.fromarray(rgba), "PIL RGB": Image.fromarray(rgb)}
     recorder = Recorder()
     vizretarget._native = recorder
     for x in cases.values():  # warm up

@@ -6,13 +6,14 @@ Makes 200 stills (1237x744 unless --still says) from the sample streams (a windo
 frame, mirrored or not, shuffled so that neighbours differ), then times (1) two
 `vizretarget DIR -o OUT/` processes at once, 100 stills each, and (2)
 `examples/python/ray_batch.py`'s `run` on a local Ray with 2 CPUs, one `retarget_files` call
-per batch (of 50 unless --batch-size says: Ray Data costs some 40 ms of wall time a batch
-here, measured with a batch function that does nothing, 0.85 s over 200 items in batches of
-10, 0.43 s in batches of 50). Ray's start-up (`ray.init`) is apart; the first Ray run also starts its workers,
+per batch (of 50 unless --batch-size says; one Ray Data block a batch: a batch function that
+does nothing took 0.07 to 0.10 s over 200 items in batches of 50, 0.21 to 0.23 s in batches
+of 10, on the loaded VM, against 1.5 to 2.0 s with a block an item). Ray's start-up (`ray.init`) is apart; the first Ray run also starts its workers,
 so it is reported as cold, the next ones as warm. The warm runs and the command line's take
 turns (which goes first alternating), so that both see the same load of a shared machine;
 each pair gives a ratio. The CPU time each side used is reported too (the command lines';
-Ray's processes' and this one's, where Ray's psutil is there): on a machine others share, a
+Ray's processes' and this one's, where Ray's psutil is there; a process is Ray's if its
+command line names ray, so another user's Ray on the machine would count too): on a machine others share, a
 side's wall time depends on how many threads it has runnable, its CPU time much less.
 The issue's target: Ray within 1.3x of the two processes.
 

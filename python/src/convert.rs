@@ -8,6 +8,7 @@
 //! the array while it is read. The output's pixels become the returned array's buffer
 //! without a copy (RGBA), or are packed once to RGB.
 
+use crate::arrow::{opaque_pixel, read_pil, Pixels};
 use crate::errors::bad;
 use numpy::ndarray::Array3;
 use numpy::{
@@ -18,11 +19,56 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use vizretarget::{Image, Size};
 
-/// A picture read from an array, and whether it had 3 or 4 channels (the output gets as
-/// many).
+/// A picture read from an array or a PIL image, and how its result goes back.
 pub struct Picture {
     pub image: Image,
+    pub out: Out,
+}
+
+/// What a result is given back as: the input's kind (an array or, for a PIL image,
+/// [`Pixels`] for `PIL.Image.fromarrow`), with as many channels (3 or 4).
+#[derive(Clone, Copy)]
+pub struct Out {
     pub channels: usize,
+    pub pil: bool,
+}
+
+/// Reads `obj`, an array as [`picture`] does or a PIL image in mode RGB or RGBA (the
+/// package's Python half converts the other modes); `what` names it in errors.
+pub fn input(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Picture> {
+    if !obj.get_type().module()?.to_cow()?.starts_with("PIL.") {
+        return picture(obj, what);
+    }
+    let mode: String = obj.getattr("mode")?.extract()?;
+    let channels = match mode.as_str() {
+        "RGB" => 3,
+        "RGBA" => 4,
+        _ => {
+            return Err(bad(
+                what,
+                format!("expected a PIL image in mode RGB or RGBA, got {mode}"),
+            ))
+        }
+    };
+    let (w, h): (usize, usize) = obj.getattr("size")?.extract()?;
+    let side = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+    let size = Size::new(side(w), side(h)).map_err(|e| bad(what, e))?;
+    let out = Out {
+        channels,
+        pil: true,
+    };
+    let Some(pixels) = read_pil(obj, w, h, channels == 3)? else {
+        // Not exported in one piece (a large image, an older Pillow): through numpy.
+        let array = obj.py().import("numpy")?.call_method1("asarray", (obj,))?;
+        let p = picture(&array, what)?;
+        return Ok(Picture {
+            image: p.image,
+            out,
+        });
+    };
+    let image = Image::from_pixels(size, pixels)
+        .ok_or_else(|| PyRuntimeError::new_err("internal error: pixel count"))?;
+    Ok(Picture { image, out })
 }
 
 /// Reads `obj`, a numpy `uint8` array `H×W×3` or `H×W×4` of any strides; `what` names it
@@ -80,7 +126,11 @@ pub fn picture(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Picture> {
     };
     let image = Image::from_pixels(size, pixels)
         .ok_or_else(|| PyRuntimeError::new_err("internal error: pixel count"))?;
-    Ok(Picture { image, channels })
+    let pil = false;
+    Ok(Picture {
+        image,
+        out: Out { channels, pil },
+    })
 }
 
 /// Packed RGB to RGBA, opaque. Four pixels at a time, in arrays of fixed length, so that
@@ -133,36 +183,59 @@ fn rgba_to_rgb(pixels: &[[u8; 4]]) -> Vec<u8> {
     out
 }
 
-/// A retargeted picture packed for an array of `channels` (3 or 4): `(height, width, bytes)`.
-/// Called with the GIL released: the packing is the library's side of the work.
-pub struct Packed {
-    height: usize,
-    width: usize,
-    channels: usize,
-    bytes: Vec<u8>,
+/// A retargeted picture made ready for its [`Out`]; called with the GIL released (the
+/// packing is the library's side of the work).
+pub enum Packed {
+    /// `H×W×channels` bytes for an array.
+    Array {
+        height: usize,
+        width: usize,
+        channels: usize,
+        bytes: Vec<u8>,
+    },
+    /// The pixels as they are (the fourth byte 255 for RGB) for a PIL image.
+    Pil(Pixels),
 }
 
-pub fn pack(image: Image, channels: usize) -> Packed {
-    let (width, height) = (image.width() as usize, image.height() as usize);
-    let pixels = image.into_pixels();
-    let bytes = if channels == 4 {
+pub fn pack(image: Image, out: Out) -> Packed {
+    let (width, height) = (image.width(), image.height());
+    let mut pixels = image.into_pixels();
+    if out.pil {
+        if out.channels == 3 {
+            // What Pillow keeps in an RGB pixel's unused byte.
+            pixels.iter_mut().for_each(|p| *p = opaque_pixel(*p));
+        }
+        return Packed::Pil(Pixels::new(width, height, pixels));
+    }
+    let (width, height) = (width as usize, height as usize);
+    let bytes = if out.channels == 4 {
         pixels.into_flattened()
     } else {
         rgba_to_rgb(&pixels)
     };
-    Packed {
+    Packed::Array {
         height,
         width,
-        channels,
+        channels: out.channels,
         bytes,
     }
 }
 
 impl Packed {
-    /// The array, over the packed bytes (no copy).
-    pub fn into_array(self, py: Python<'_>) -> PyResult<Bound<'_, PyArray3<u8>>> {
-        let a = Array3::from_shape_vec((self.height, self.width, self.channels), self.bytes)
-            .map_err(|e| PyRuntimeError::new_err(format!("internal error: {e}")))?;
-        Ok(a.into_pyarray(py))
+    /// The array over the packed bytes, or the [`Pixels`] (no copy either way).
+    pub fn into_py(self, py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+        match self {
+            Packed::Array {
+                height,
+                width,
+                channels,
+                bytes,
+            } => {
+                let a = Array3::from_shape_vec((height, width, channels), bytes)
+                    .map_err(|e| PyRuntimeError::new_err(format!("internal error: {e}")))?;
+                Ok(a.into_pyarray(py).into_any())
+            }
+            Packed::Pil(p) => Ok(Bound::new(py, p)?.into_any()),
+        }
     }
 }

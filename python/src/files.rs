@@ -10,14 +10,15 @@ use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
+use std::time::Instant;
 use vizretarget::io::{
-    is_std, list_images, open_input_with, open_sink, probe_still, read_still_with, resolve_output,
-    sniff, write_still, Destination, FrameMarks, FrameRate, GifSource, InputFormat, InputKind,
-    Magic, MarkedSource, OutputChoice, OutputFormat, SinkFormat, SinkOptions,
+    is_std, list_images, open_input_with, open_sink, path_shape, probe_still, read_still_with,
+    resolve_output, write_still, Destination, FrameMarks, FrameRate, InputFormat, InputKind,
+    MarkedSource, OutputChoice, OutputFormat, PathShape, SinkFormat, SinkOptions,
 };
 use vizretarget::stream::{FrameSource, NoProgress};
 use vizretarget::{
-    retarget_with, Error, Frame, Limits, Method, Options, Pipeline, Retargeter, Target,
+    retarget_with, Error, Frame, Limits, Method, Options, Pipeline, Retargeter, Size, Target,
 };
 
 /// Everything a file job needs, read from Python before the GIL is released.
@@ -81,8 +82,8 @@ pub struct Done {
 
 /// Runs `job`; called with the GIL released.
 pub fn run(job: &Job) -> PyResult<Done> {
-    let started = std::time::Instant::now();
-    let mut done = match plan(job)? {
+    let started = Instant::now();
+    let mut done = match finish(job, prepare(job)?)? {
         Step::Write(still) => still.write()?,
         Step::Done(done) => done,
     };
@@ -90,33 +91,56 @@ pub fn run(job: &Job) -> PyResult<Done> {
     Ok(done)
 }
 
-/// Runs `jobs` in order, each as [`run`] would (the same files), with the writing of each
-/// picture (encoding, and the sync to disk before the rename) on a second thread while the
-/// next one is read and retargeted, as the command line's stream writes its frames on a
-/// thread of their own. Stops at the first error, after the pictures already retargeted are
-/// written. Called with the GIL released.
+/// Runs `jobs` in order, each as [`run`] would (the same files), on three threads as the
+/// command line's stream runs its stages on threads of their own: each picture is read and
+/// decoded on one while the one before it is retargeted on the calling thread, and written
+/// (encoded, synced to disk, renamed) on a third. Stops at the first error, after the
+/// pictures before it are written. Called with the GIL released.
 pub fn run_all(jobs: &[Job]) -> PyResult<Vec<Done>> {
     let mut done: Vec<Done> = jobs.iter().map(|_| Done::default()).collect();
-    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Still, std::time::Instant)>(1);
+    let no_thread = |what: &str, e: std::io::Error| {
+        pyo3::exceptions::PyOSError::new_err(format!("a {what} thread: {e}"))
+    };
+    let panicked = |what: &str| {
+        pyo3::exceptions::PyRuntimeError::new_err(format!(
+            "internal error: the {what} thread panicked"
+        ))
+    };
+    let (read_tx, read_rx) = std::sync::mpsc::sync_channel::<(Instant, PyResult<Prepared>)>(1);
+    let (write_tx, write_rx) = std::sync::mpsc::sync_channel::<(usize, Still, Instant)>(1);
     std::thread::scope(|s| {
+        let reader = std::thread::Builder::new()
+            .name("read".into())
+            .spawn_scoped(s, move || {
+                for job in jobs {
+                    let started = Instant::now();
+                    let prepared = prepare(job);
+                    let failed = prepared.is_err();
+                    // Sent in order; nothing is read past an error, or once the calling
+                    // thread has stopped.
+                    if read_tx.send((started, prepared)).is_err() || failed {
+                        break;
+                    }
+                }
+            })
+            .map_err(|e| no_thread("reader", e))?;
         let writer = std::thread::Builder::new()
             .name("write".into())
             .spawn_scoped(s, move || -> PyResult<Vec<(usize, Done)>> {
                 let mut written = Vec::new();
-                for (i, still, started) in rx {
+                for (i, still, started) in write_rx {
                     let mut d = still.write()?;
                     d.seconds = started.elapsed().as_secs_f64();
                     written.push((i, d));
                 }
                 Ok(written)
             })
-            .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("a writer thread: {e}")))?;
+            .map_err(|e| no_thread("writer", e))?;
         let mut failed = None;
-        for (i, job) in jobs.iter().enumerate() {
-            let started = std::time::Instant::now();
-            match plan(job) {
+        for (i, (started, prepared)) in read_rx.iter().enumerate() {
+            match prepared.and_then(|p| finish(&jobs[i], p)) {
                 Ok(Step::Write(still)) => {
-                    if tx.send((i, still, started)).is_err() {
+                    if write_tx.send((i, still, started)).is_err() {
                         break; // the writer failed: its error is the one to raise
                     }
                 }
@@ -130,12 +154,10 @@ pub fn run_all(jobs: &[Job]) -> PyResult<Vec<Done>> {
                 }
             }
         }
-        drop(tx);
-        let written = writer.join().unwrap_or_else(|_| {
-            Err(pyo3::exceptions::PyRuntimeError::new_err(
-                "internal error: the writer thread panicked",
-            ))
-        })?;
+        drop(read_rx); // a reader still ahead stops at its next send
+        drop(write_tx);
+        reader.join().map_err(|_| panicked("reader"))?;
+        let written = writer.join().map_err(|_| panicked("writer"))??;
         if let Some(e) = failed {
             return Err(e);
         }
@@ -172,38 +194,47 @@ enum Step {
     Done(Done),
 }
 
-/// A job up to the writing of its picture; a stream all the way.
-fn plan(job: &Job) -> PyResult<Step> {
+/// A job read as far as it can be ahead of the retargeting.
+enum Prepared {
+    /// A picture checked and decoded, for `target`, to be written to `dst`.
+    Still {
+        image: vizretarget::Image,
+        target: Size,
+        dst: PathBuf,
+        format: OutputFormat,
+    },
+    /// A stream into a sink of this format, all of it left to do.
+    Stream(SinkFormat),
+}
+
+/// A job up to the decoding of its picture; for a stream, what sink it writes.
+fn prepare(job: &Job) -> PyResult<Prepared> {
     let destination = resolve_output(&job.dst, OutputChoice::Auto).map_err(to_py)?;
-    let frames = frame_count(&job.src, &job.limits).map_err(to_py)?;
-    match (destination, frames) {
-        (Destination::Still(format), Some(1)) => still(job, &job.dst, format).map(Step::Write),
-        (Destination::Still(_), Some(n)) => Err(PyValueError::new_err(format!(
+    match (
+        destination,
+        path_shape(&job.src, &job.limits).map_err(to_py)?,
+    ) {
+        (Destination::Still(format), PathShape::Picture | PathShape::UnreadableGif) => {
+            read(job, job.dst.clone(), format)
+        }
+        (Destination::Still(_), PathShape::Animation(n)) => Err(PyValueError::new_err(format!(
             "{}: an animated GIF of {n} frames does not fit in one picture ({}): write a \
              .gif, or a folder (ending in /) for one PNG per frame",
             job.src.display(),
             job.dst.display()
         ))),
-        (Destination::Still(_), None) => Err(PyValueError::new_err(format!(
+        (Destination::Still(_), PathShape::Folder) => Err(PyValueError::new_err(format!(
             "{}: one picture cannot hold a folder of frames: write a .gif or a folder \
              (ending in /)",
             job.dst.display()
         ))),
         // One picture into a folder keeps its name, as a folder of frames does.
-        (Destination::Stream(SinkFormat::PngSeq), Some(1)) => {
+        (Destination::Stream(SinkFormat::PngSeq), PathShape::Picture) => {
             let stem = job
                 .src
                 .file_stem()
                 .map_or_else(|| "picture".into(), |s| s.to_string_lossy().into_owned());
-            if !job.dst.is_dir() {
-                std::fs::create_dir(&job.dst).map_err(|e| {
-                    to_py(Error::Io {
-                        path: job.dst.clone(),
-                        source: e,
-                    })
-                })?;
-            }
-            still(job, &job.dst.join(format!("{stem}.png")), OutputFormat::Png).map(Step::Write)
+            read(job, job.dst.join(format!("{stem}.png")), OutputFormat::Png)
         }
         (Destination::Stream(_), _) if job.method != Method::Mesh => Err(bad(
             "option method",
@@ -212,39 +243,59 @@ fn plan(job: &Job) -> PyResult<Step> {
                 job.method
             ),
         )),
-        (Destination::Stream(format), _) => stream(job, format).map(Step::Done),
+        (Destination::Stream(format), _) => Ok(Prepared::Stream(format)),
     }
 }
 
-/// How many frames `src` holds when it is one file (a GIF is counted without decoding;
-/// another picture is one), `None` for a folder.
-fn frame_count(src: &Path, limits: &Limits) -> Result<Option<u64>, Error> {
-    if src.is_dir() {
-        return Ok(None);
+/// The rest of a job: its picture retargeted, to be written; a stream all the way.
+fn finish(job: &Job, prepared: Prepared) -> PyResult<Step> {
+    match prepared {
+        Prepared::Still {
+            image,
+            target,
+            dst,
+            format,
+        } => {
+            // Into a folder: made here, not ahead, so that a batch that stops at an error
+            // leaves none for the jobs after it.
+            if let Some(folder) = dst.parent().filter(|_| dst != job.dst) {
+                if !folder.is_dir() {
+                    std::fs::create_dir(folder).map_err(|e| {
+                        to_py(Error::Io {
+                            path: folder.to_path_buf(),
+                            source: e,
+                        })
+                    })?;
+                }
+            }
+            let image = still(job, image, target)?;
+            Ok(Step::Write(Still { image, dst, format }))
+        }
+        Prepared::Stream(format) => stream(job, format).map(Step::Done),
     }
-    let mut head = Vec::new();
-    if let Ok(f) = std::fs::File::open(src) {
-        use std::io::Read;
-        let _ = f.take(16).read_to_end(&mut head);
-    }
-    if sniff(&head) != Some(Magic::Gif) {
-        return Ok(Some(1));
-    }
-    let gif = GifSource::open_with(src, limits)?;
-    Ok(Some(gif.len_hint().map_or(1, |n| n.max(1) as u64)))
 }
 
-/// One picture: checked from its header and retargeted, to be written atomically.
-fn still(job: &Job, dst: &Path, format: OutputFormat) -> PyResult<Still> {
+/// One picture: checked from its header and decoded.
+fn read(job: &Job, dst: PathBuf, format: OutputFormat) -> PyResult<Prepared> {
     let from = probe_still(&job.src, &job.limits).map_err(to_py)?;
     let target = options::resolve(&job.target, from)?;
     job.limits
         .check_still(&job.src, from, target)
         .map_err(to_py)?;
     let image = read_still_with(&job.src, &job.limits).map_err(to_py)?;
-    // The mesh as the command line runs it, through `Retargeter`, which takes the picture
-    // by value (`retarget` would copy it); `retarget_with` would keep the analysis too.
-    let image = match job.method {
+    Ok(Prepared::Still {
+        image,
+        target,
+        dst,
+        format,
+    })
+}
+
+/// One picture retargeted. The mesh as the command line runs it, through `Retargeter`,
+/// which takes the picture by value (`retarget` would copy it); `retarget_with` would keep
+/// the analysis too.
+fn still(job: &Job, image: vizretarget::Image, target: Size) -> PyResult<vizretarget::Image> {
+    match job.method {
         Method::Mesh => Retargeter::new(target, job.options.clone())
             .and_then(|mut r| {
                 r.send_frame(Frame::new(image, 0))?;
@@ -255,12 +306,7 @@ fn still(job: &Job, dst: &Path, format: OutputFormat) -> PyResult<Still> {
             .map(|r| r.image),
         m => retarget_with(m, &image, target, &job.options).map(|r| r.image),
     }
-    .map_err(to_py)?;
-    Ok(Still {
-        image,
-        dst: dst.to_path_buf(),
-        format,
-    })
+    .map_err(to_py)
 }
 
 /// Frames in, frames out, through the threaded pipeline.

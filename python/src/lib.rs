@@ -5,6 +5,7 @@
 //! Everything here goes through the library's public API; the GIL is released while the
 //! library works.
 
+mod arrow;
 mod convert;
 mod errors;
 mod files;
@@ -12,7 +13,7 @@ mod options;
 mod stats;
 mod stream;
 
-use convert::{pack, picture, Packed};
+use convert::{input, pack, picture, Out, Packed};
 use errors::to_py;
 use options::{Given, COMPARE, FILES, REUSE, STILL};
 use pyo3::prelude::*;
@@ -34,7 +35,9 @@ use vizretarget::{retarget_with, Frame, Method, Retargeter};
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-/// `(array, stats)`: `image` (an `H×W×3` or `H×W×4` uint8 array) retargeted to `size`.
+/// `(result, stats)`: `image` (an `H×W×3` or `H×W×4` uint8 array, or an RGB or RGBA PIL
+/// image) retargeted to `size`: an array of as many channels, or for a PIL image [`arrow::Pixels`]
+/// for `PIL.Image.fromarrow`.
 #[pyfunction]
 #[pyo3(signature = (image, size, options=None))]
 fn retarget<'py>(
@@ -47,7 +50,7 @@ fn retarget<'py>(
     let opts = options::options(&given)?;
     let method = options::method(&given, &opts)?;
     let target = options::target(size)?;
-    let p = picture(image, "image")?;
+    let p = input(image, "image")?;
     let target = options::resolve(&target, p.image.size())?;
     // The mesh method straight through `Retargeter`, which takes the frame by value:
     // `vizretarget::retarget` would copy the picture once more.
@@ -60,15 +63,15 @@ fn retarget<'py>(
                 let out = r.receive_frame().map_err(|_| {
                     vizretarget::Error::Internal("a still sent and flushed gave no frame".into())
                 })?;
-                Ok((pack(out.image, p.channels), Some(out.stats)))
+                Ok((pack(out.image, p.out), Some(out.stats)))
             } else {
                 let out = retarget_with(method, &p.image, target, &opts)?;
-                Ok((pack(out.image, p.channels), None))
+                Ok((pack(out.image, p.out), None))
             }
         })
         .map_err(to_py)?;
     let stats = stats.map(|s| stats::frame_stats(py, &s)).transpose()?;
-    Ok((packed.into_array(py)?.into_any(), stats))
+    Ok((packed.into_py(py)?, stats))
 }
 
 /// `(sheet, measures_json)`: every method on `image`, side by side, and their measures.
@@ -92,17 +95,21 @@ fn compare<'py>(
         ..SheetOptions::default()
     };
     let target = options::target(size)?;
-    let p = picture(image, "image")?;
+    let p = input(image, "image")?;
     let target = options::resolve(&target, p.image.size())?;
     let (packed, json) = py
         .detach(|| -> Result<_, vizretarget::Error> {
             let c = compare_methods(&p.image, target, &opts)?;
             let sheet = c.sheet(&p.image, &sheet_options);
             let channels = if sheet.is_opaque() { 3 } else { 4 };
-            Ok((pack(sheet, channels), c.metrics.to_json().to_string()))
+            let out = Out {
+                channels,
+                pil: false,
+            };
+            Ok((pack(sheet, out), c.metrics.to_json().to_string()))
         })
         .map_err(to_py)?;
-    Ok((packed.into_array(py)?.into_any(), json))
+    Ok((packed.into_py(py)?, json))
 }
 
 /// Retargets the picture, animated GIF or folder of frames `src` into `dst` as the command
@@ -196,5 +203,6 @@ fn _vizretarget(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(retarget_files, m)?)?;
     m.add_function(wrap_pyfunction!(_library_ms, m)?)?;
     m.add_class::<stream::NativeRetargeter>()?;
+    m.add_class::<arrow::Pixels>()?;
     Ok(())
 }

@@ -6,7 +6,7 @@
 //! send to one retargeter (their frames are taken in the order they get the lock), and
 //! retargeters in different threads run at the same time.
 
-use crate::convert::{pack, picture, Packed};
+use crate::convert::{input, pack, Out, Packed};
 use crate::errors::to_py;
 use crate::options::{layer, target, Given, REUSE, STILL};
 use crate::stats::frame_stats;
@@ -23,8 +23,8 @@ struct State {
     /// Made on the first frame, whose size a relative target is taken from.
     inner: Option<vizretarget::Retargeter>,
     next_index: u64,
-    /// Per frame sent and not yet received: its channels and the caller's tag.
-    pending: VecDeque<(usize, Py<PyAny>)>,
+    /// Per frame sent and not yet received: how its result goes back, and the caller's tag.
+    pending: VecDeque<(Out, Py<PyAny>)>,
     flushed: bool,
 }
 
@@ -64,7 +64,8 @@ impl NativeRetargeter {
         })
     }
 
-    /// Retargets `frame` (a numpy array); `tag` comes back with its result.
+    /// Retargets `frame` (a numpy array or an RGB or RGBA PIL image); `tag` comes back with
+    /// its result.
     #[pyo3(signature = (frame, tag, marks=None))]
     fn send(
         &self,
@@ -73,7 +74,7 @@ impl NativeRetargeter {
         tag: Py<PyAny>,
         marks: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let p = picture(frame, "frame")?;
+        let p = input(frame, "frame")?;
         let marks = marks.filter(|m| !m.is_none()).map(layer).transpose()?;
         py.detach(|| {
             let mut s = self.lock()?;
@@ -96,12 +97,12 @@ impl NativeRetargeter {
                 .ok_or_else(|| PyRuntimeError::new_err("no stream"))?;
             inner.send_frame(f).map_err(to_py)?;
             s.next_index += 1;
-            s.pending.push_back((p.channels, tag));
+            s.pending.push_back((p.out, tag));
             Ok(())
         })
     }
 
-    /// The next result `(array, stats, tag)`, or `None` when none is ready.
+    /// The next result `(array or Pixels, stats, tag)`, or `None` when none is ready.
     fn receive<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyTuple>>> {
         let got = py.detach(|| -> PyResult<Option<Received>> {
             let mut s = self.lock()?;
@@ -110,12 +111,12 @@ impl NativeRetargeter {
             };
             match inner.receive_frame() {
                 Ok(r) => {
-                    let (channels, tag) = s
+                    let (out, tag) = s
                         .pending
                         .pop_front()
                         .ok_or_else(|| PyRuntimeError::new_err("internal error: no tag"))?;
                     Ok(Some(Received {
-                        packed: pack(r.image, channels),
+                        packed: pack(r.image, out),
                         stats: r.stats,
                         tag,
                     }))
@@ -127,7 +128,7 @@ impl NativeRetargeter {
             PyTuple::new(
                 py,
                 [
-                    r.packed.into_array(py)?.into_any(),
+                    r.packed.into_py(py)?,
                     frame_stats(py, &r.stats)?.into_any(),
                     r.tag.into_bound(py),
                 ],

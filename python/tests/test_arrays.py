@@ -85,6 +85,78 @@ def test_pil_round_trip_keeps_mode_and_pixels(mode: str) -> None:
     assert np.array_equal(np.asarray(out), vizretarget.retarget(arr, (200, 120)))
 
 
+@pytest.mark.parametrize("mode", ["RGB", "RGBA"])
+@pytest.mark.parametrize("width", [157, 160])
+def test_pil_is_the_numpy_path_byte_for_byte(mode: str, width: int) -> None:
+    # PIL images are read in place (Arrow) and given back over the library's pixels: the
+    # same bytes as an array in and out, at widths that leave 0 and 1 pixels over a quad.
+    arr = chart(h=181, w=width, channels=len(mode))
+    size = (width - 41, 177)
+    out = vizretarget.retarget(Image.fromarray(arr), size)
+    assert (out.mode, out.size) == (mode, size)
+    assert out.tobytes() == vizretarget.retarget(arr, size).tobytes()
+
+
+def test_pil_from_a_file_and_a_result_fed_back_in() -> None:
+    # A PNG opened lazily (Pillow loads it when its pixels are asked for), and the result,
+    # an image over the extension's memory, retargeted again: as the arrays.
+    path = STREAMS / "scatter-map" / "frame-0000.png"
+    with Image.open(path) as im:
+        rgb = np.asarray(im.convert("RGB"))
+    with Image.open(path) as im:
+        assert im.mode == "RGB"
+        once = vizretarget.retarget(im, "50%x100%")
+    twice = vizretarget.retarget(once, (None, 300))
+    expected_once = vizretarget.retarget(rgb, "50%x100%")
+    assert once.tobytes() == expected_once.tobytes()
+    assert twice.tobytes() == vizretarget.retarget(expected_once, (None, 300)).tobytes()
+
+
+@pytest.mark.parametrize("mode", ["RGB", "RGBA"])
+def test_pil_results_outlive_the_call_and_copy_when_written(mode: str) -> None:
+    import gc
+
+    arr = chart(channels=len(mode))
+    expected = vizretarget.retarget(arr, "50%")
+    out = vizretarget.retarget(Image.fromarray(arr), "50%")
+    gc.collect()
+    assert np.array_equal(np.asarray(out), expected)
+    copy = out.copy()
+    out.putpixel((0, 0), (1, 2, 3, 4)[: len(mode)])
+    out.paste((9, 9, 9, 9)[: len(mode)], (5, 5, 20, 20))
+    assert out.getpixel((0, 0)) == (1, 2, 3, 4)[: len(mode)]
+    assert np.array_equal(np.asarray(copy), expected)
+    assert out.convert("RGBA").mode == "RGBA"
+
+
+def test_pil_images_not_in_one_piece_are_read_through_numpy() -> None:
+    # Pillow exports an image only if its rows follow each other in one block: an image
+    # over a buffer read bottom-up, and one over rows with a gap after each, are refused,
+    # and read another way, to the same pixels.
+    arr = chart(channels=4)
+    h, w = arr.shape[:2]
+    expected = vizretarget.retarget(arr, "50%")
+    flipped = Image.frombuffer("RGBA", (w, h), np.ascontiguousarray(arr[::-1]), "raw", "RGBA", 0, -1)
+    padded = np.zeros((h, w + 3, 4), np.uint8)
+    padded[:, :w] = arr
+    gaps = Image.frombuffer("RGBA", (w, h), padded, "raw", "RGBA", (w + 3) * 4, 1)
+    for im in (flipped, gaps):
+        with pytest.raises(ValueError):
+            im.__arrow_c_array__()
+        assert np.array_equal(np.asarray(vizretarget.retarget(im, "50%")), expected)
+
+
+@pytest.mark.parametrize("mode", ["RGB", "RGBA"])
+def test_pil_without_arrow_goes_through_numpy(monkeypatch, mode: str) -> None:
+    # An older Pillow (no `Image.fromarrow`, before 11.2.1): the arrays' path, same result.
+    arr = chart(channels=len(mode))
+    fast = vizretarget.retarget(Image.fromarray(arr), (200, 120))
+    monkeypatch.setattr(vizretarget, "_FROMARROW", False)
+    slow = vizretarget.retarget(Image.fromarray(arr), (200, 120))
+    assert (slow.mode, slow.size) == (fast.mode, fast.size)
+    assert slow.tobytes() == fast.tobytes()
+
+
 def test_pil_other_modes_come_back_as_rgb_or_rgba() -> None:
     grey = Image.fromarray(chart()).convert("L")
     assert vizretarget.retarget(grey, "50%").mode == "RGB"

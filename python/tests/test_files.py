@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -79,3 +81,39 @@ def test_a_batch_stops_at_the_first_error_after_writing_what_came_before(tmp_pat
         vizretarget.retarget_files([(src, tmp_path / "a.png"), ("-", tmp_path / "b.png")], "50%")
     with pytest.raises(OSError):  # the folder to write into is missing
         vizretarget.retarget_files([(src, tmp_path / "no" / "such" / "a.png")], "50%")
+
+
+def test_a_batch_reads_ahead_but_makes_nothing_for_the_jobs_after_an_error(tmp_path) -> None:
+    # Each picture is read while the one before it is retargeted. One into a folder keeps
+    # its name; a folder is made only once the jobs before it went through.
+    src = STREAMS / "dashboard" / "frame-0003.png"
+    done = vizretarget.retarget_files([(src, tmp_path / "a.png"), (src, f"{tmp_path / 'into'}/")], "50%")
+    assert [d["frames"] for d in done] == [1, 1]
+    assert (tmp_path / "into" / "frame-0003.png").read_bytes() == (tmp_path / "a.png").read_bytes()
+    # A stream that fails when it opens its output (on the calling thread, after the
+    # picture behind it was read).
+    with pytest.raises(OSError):
+        vizretarget.retarget_files(
+            [(STREAMS / "dashboard", tmp_path / "no" / "such.gif"), (src, f"{tmp_path / 'later'}/")], "50%"
+        )
+    assert not (tmp_path / "later").exists()
+
+
+def test_a_gif_cut_short_is_what_the_command_line_makes_of_it(cli, tmp_path) -> None:
+    # Its blocks cannot be walked to the end: into a folder it is a stream, which keeps the
+    # frames before the fault and then fails, as the command line does; into one picture
+    # it is read as one.
+    data = (STREAMS / "graph.gif").read_bytes()
+    cut = tmp_path / "cut.gif"
+    cut.write_bytes(data[: len(data) * 2 // 3])
+    r = subprocess.run([str(cli), str(cut), "--size", "50%x100%", "-o", f"{tmp_path / 'cli'}/", "-q"], capture_output=True, text=True)
+    assert r.returncode == 1 and "corrupt GIF" in r.stderr
+    with pytest.raises((OSError, ValueError), match="corrupt GIF"):
+        vizretarget.retarget_file(cut, f"{tmp_path / 'py'}/", "50%x100%")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert len(names) > 1 and names == sorted(p.name for p in (tmp_path / "py").iterdir())
+    for n in names:
+        assert (tmp_path / "py" / n).read_bytes() == (tmp_path / "cli" / n).read_bytes(), n
+    run_cli(cli, cut, "--size", "50%x100%", "-o", tmp_path / "cli.png")
+    vizretarget.retarget_file(cut, tmp_path / "py.png", "50%x100%")
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()

@@ -53,9 +53,11 @@ def _is_pil(image: Any) -> bool:
 
 
 def _to_array(image: Any) -> Tuple[Any, Optional[str]]:
-    """The picture as an array the library reads, and the PIL mode to give back (None: an
+    """The picture as the library reads it, and the PIL mode to give back (None: an
     array). PIL images other than RGB and RGBA come back as RGBA if they have transparency,
-    else RGB."""
+    else RGB. An RGB or RGBA image goes to the extension as it is: it reads Pillow's pixels
+    in place (the Arrow C data interface, Pillow 11.2.1 on) with one copy, as from an RGBA
+    array; with an older Pillow, through numpy (Pillow's ``tobytes``, a copy more)."""
     if not _is_pil(image):
         return image, None
     mode = image.mode
@@ -63,17 +65,35 @@ def _to_array(image: Any) -> Tuple[Any, Optional[str]]:
         transparent = "A" in mode or "transparency" in image.info
         mode = "RGBA" if transparent else "RGB"
         image = image.convert(mode)
-    return np.asarray(image), mode
+    return (image if _fromarrow() else np.asarray(image)), mode
 
 
-def _from_array(array: np.ndarray, mode: Optional[str]) -> Any:
+def _from_array(out: Any, mode: Optional[str]) -> Any:
     if mode is None:
-        return array
+        return out
     from PIL import Image
 
-    # Over the array's memory, without a copy (Pillow copies it if the image is written).
-    h, w = array.shape[:2]
-    return Image.frombuffer(mode, (w, h), array, "raw", mode, 0, 1)
+    if not isinstance(out, np.ndarray):
+        # Over the extension's pixels, without a copy (Pillow copies them if the image is
+        # written).
+        return Image.fromarrow(out, mode, out.size)
+    h, w = out.shape[:2]
+    return Image.frombuffer(mode, (w, h), out, "raw", mode, 0, 1)
+
+
+# Whether Pillow has `Image.fromarrow` (11.2.1 and later): PIL images then go in and out
+# through the Arrow C data interface. Looked up at the first PIL image (Pillow is imported
+# by then), so that importing the package does not import Pillow.
+_FROMARROW: Optional[bool] = None
+
+
+def _fromarrow() -> bool:
+    global _FROMARROW
+    if _FROMARROW is None:
+        from PIL import Image
+
+        _FROMARROW = hasattr(Image, "fromarrow")
+    return _FROMARROW
 
 
 def retarget(image: Any, size: Any, **options: Any) -> Any:

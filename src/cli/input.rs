@@ -7,10 +7,7 @@ use super::args::{Cli, InputArg};
 use super::library_error;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
-use vizretarget::io::{
-    is_std, peek_stdin, sniff, GifSource, Magic, Peeked, PictureFile, STDIN_NAME,
-};
-use vizretarget::stream::FrameSource;
+use vizretarget::io::{is_std, path_shape, peek_stdin, PathShape, Peeked, PictureFile, STDIN_NAME};
 
 /// How the input is named in messages: `stdin` for `-`.
 pub fn name(input: &Path) -> &Path {
@@ -63,24 +60,14 @@ impl Shape {
     }
 
     fn of_path(input: &Path, limits: &vizretarget::Limits) -> Result<Shape> {
-        if is_std(input) || input.is_dir() {
+        if is_std(input) {
             return Ok(Shape::Stream);
         }
-        let mut head = Vec::new();
-        // A file that cannot be read is a picture here: the still job names what is wrong.
-        if let Ok(f) = std::fs::File::open(input) {
-            use std::io::Read;
-            let _ = f.take(16).read_to_end(&mut head);
-        }
-        if sniff(&head) != Some(Magic::Gif) {
-            return Ok(Shape::Picture);
-        }
-        // Counted by walking the blocks, without decoding.
-        let gif = GifSource::open_with(input, limits).map_err(library_error)?;
-        Ok(match gif.len_hint() {
-            Some(n) if n <= 1 => Shape::Picture,
-            Some(n) => Shape::Animation(n as u64),
-            None => Shape::UnreadableGif,
+        Ok(match path_shape(input, limits).map_err(library_error)? {
+            PathShape::Picture => Shape::Picture,
+            PathShape::Animation(n) => Shape::Animation(n),
+            PathShape::Folder => Shape::Stream,
+            PathShape::UnreadableGif => Shape::UnreadableGif,
         })
     }
 }

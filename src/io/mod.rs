@@ -8,8 +8,8 @@
 //!   ([`GifSink`]), a folder of PNGs ([`PngSeqSink`]), raw frames ([`RawSink`]), YUV4MPEG2
 //!   ([`Y4mSink`]), concatenated PNGs ([`PngStreamSink`]).
 //! - [`open_input`], [`resolve_output`] and [`open_sink`] pick among them from a path and a
-//!   format, as the command line does; [`peek_stdin`] tells one picture on stdin from a
-//!   stream.
+//!   format, as the command line does; [`path_shape`] tells one picture in a file from an
+//!   animation or a folder, and [`peek_stdin`] one picture on stdin from a stream.
 //!
 //! Inputs are recognised by their first bytes, never by their names. Files are written
 //! through a temporary file and a rename, so a reader never sees half a file; a run that
@@ -30,6 +30,7 @@ mod png_seq;
 mod png_stream;
 mod quantize;
 mod raw;
+mod shape;
 mod sniff;
 mod still;
 #[cfg(feature = "watch")]
@@ -54,6 +55,7 @@ pub use pipe::{stdin_stream, stdout_stream, STDIN_NAME, STDOUT_NAME};
 pub use png_seq::{output_name, PngSeqSink};
 pub use png_stream::{PngStreamSink, PngStreamSource};
 pub use raw::{RawFormat, RawSink, RawSource};
+pub use shape::{path_shape, PathShape};
 pub use sniff::{sniff, Magic};
 pub use still::{
     decode_still, decode_still_with, encode_still, probe_still, read_still, read_still_with,
