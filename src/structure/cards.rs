@@ -35,6 +35,8 @@ const STRAY_PX: usize = 8;
 /// text's line height, where more): a colour bar's labels under it, a bar's label left of
 /// it, a facet's title over it (a card's title stands further, past its rule).
 const JOIN_PX: u32 = 12;
+/// Distinct colours a card's fill is sought among (the first seen, on its sparse grid).
+const COLOURS_COUNTED: usize = 32;
 /// Least share of a card's sides a data area covers to be the card's frame.
 const CARD_FRAME_SHARE: f64 = 0.9;
 /// Pixels at each end of a frame's line that its rounded corners may take.
@@ -307,12 +309,18 @@ impl Page<'_> {
         all.then(|| self.commonest(r))
     }
 
-    /// The commonest colour of `r`, read on a sparse grid.
+    /// The commonest colour of `r`, read on a sparse grid: a fill outnumbers every other
+    /// colour, so a run of equal pixels counts once and the first few colours seen suffice.
     fn commonest(&self, r: [u32; 4]) -> [u8; 4] {
-        let mut count: std::collections::HashMap<[u8; 4], u32> = Default::default();
-        for y in (r[1]..r[3]).step_by(3) {
-            for x in (r[0]..r[2]).step_by(3) {
-                *count.entry(self.px(x, y)).or_default() += 1;
+        let mut count: Vec<([u8; 4], u32)> = Vec::with_capacity(COLOURS_COUNTED);
+        for y in (r[1]..r[3]).step_by(4) {
+            for x in (r[0]..r[2]).step_by(4) {
+                let p = self.px(x, y);
+                if let Some(c) = count.iter_mut().find(|c| c.0 == p) {
+                    c.1 += 1;
+                } else if count.len() < COLOURS_COUNTED {
+                    count.push((p, 1));
+                }
             }
         }
         (count.into_iter())
