@@ -19,7 +19,9 @@
 //!   replaced snapshot has a new fingerprint and is read again.
 //! - **Order.** Snapshots are read in the order they became complete, ties in the order they
 //!   first appeared; one slow writer does not hold back the files after it. Files present when
-//!   watching starts come first, in natural order of their names.
+//!   watching starts come first, in natural order of their names: they wait the same settle
+//!   time, and a close-write event with no write seen before it (writes made before watching
+//!   started) does not shorten one's wait.
 //! - **Names.** Only `.png`, `.jpg` and `.jpeg` files (any case) directly in the folder count;
 //!   hidden names (a leading `.`, as atomic writers' temporary files) are ignored. Each
 //!   frame's file name is recorded in [`WatchSource::names`].
@@ -331,10 +333,16 @@ impl WatchSource {
         match event.kind {
             EventKind::Access(AccessKind::Close(AccessMode::Write)) => {
                 for p in paths {
-                    if let Some(c) = self.candidates.iter_mut().find(|c| c.path == p) {
-                        c.state = Writer::Closed;
-                    } else {
-                        self.touch(p, Writer::Closed);
+                    match self.candidates.iter_mut().find(|c| c.path == p) {
+                        // A writer seen at work is done.
+                        Some(c) if c.state == Writer::Open => c.state = Writer::Closed,
+                        // No write seen since it was found: the close trails writes made
+                        // before (a file already there whose writer, or a forked process
+                        // holding a copy of its descriptor until it execs, closes it only
+                        // now). It says nothing new, and must not put the file ahead of the
+                        // others found with it, which wait the settle time.
+                        Some(_) => {}
+                        None => self.touch(p, Writer::Closed),
                     }
                 }
             }
@@ -647,5 +655,62 @@ impl FrameSource for WatchSource {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn png(i: u8) -> Vec<u8> {
+        let img = image::RgbImage::from_pixel(8, 6, image::Rgb([i, 0, 0]));
+        let mut out = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+        out.into_inner()
+    }
+
+    /// snap2 was written in full before watching started but is closed only after (a slow
+    /// exporter, or a process forked meanwhile holding a copy of the descriptor until it
+    /// execs, as `cargo test` spawning another test's child does): its close-write event must
+    /// not put it ahead of snap1. Files already there are read in natural order.
+    #[test]
+    fn a_close_after_the_start_keeps_files_already_there_in_natural_order() {
+        let dir = tempfile::tempdir().unwrap();
+        for n in [10, 1] {
+            std::fs::write(dir.path().join(format!("snap{n}.png")), png(n)).unwrap();
+        }
+        let mut writer = std::fs::File::create(dir.path().join("snap2.png")).unwrap();
+        writer.write_all(&png(2)).unwrap();
+        let mut source = WatchSource::new(dir.path(), WatchOptions::default()).unwrap();
+        drop(writer);
+        let snap2 = source.dir.join("snap2.png");
+        loop {
+            let event = source.events.recv_timeout(Duration::from_secs(10));
+            let event = event.expect("the close-write event of snap2").unwrap();
+            let closes_snap2 = event.kind
+                == EventKind::Access(AccessKind::Close(AccessMode::Write))
+                && event.paths.contains(&snap2);
+            source.handle(event);
+            if closes_snap2 {
+                break;
+            }
+        }
+        // Found together (the same time, pinned here): none is ready before the others.
+        let quiet = QuietTimes::new(source.options.settle);
+        let found = Instant::now();
+        let closed_wait_later = found + quiet.closed;
+        for c in &mut source.candidates {
+            c.changed_at = found;
+            let fp = fingerprint(&std::fs::metadata(&c.path).unwrap());
+            let ready = c.settling(fp, closed_wait_later, &quiet).is_none();
+            assert!(!ready, "{} ready before the others", c.path.display());
+        }
+        let mut names = Vec::new();
+        for _ in 0..3 {
+            let frame = source.next_frame().unwrap().unwrap();
+            names.push(source.names().get(frame.frame_index).unwrap());
+        }
+        assert_eq!(names, ["snap1.png", "snap2.png", "snap10.png"]);
     }
 }
