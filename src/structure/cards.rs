@@ -10,7 +10,7 @@
 //! one colour that is not the ground: a frame or a fill), else the picture is no page of
 //! cards.
 
-use super::panels::{clean_lines, grown_over, Card, Panel, Split};
+use super::panels::{clean_lines, grown_over, pieces, Card, Panel, Split};
 use super::spans::{merged, runs_where};
 use super::TextBlock;
 use crate::image::ImageRef;
@@ -141,17 +141,8 @@ impl Page<'_> {
         if depth >= MOST_DEPTH || cuts[k].is_empty() {
             return self.leaf(rect);
         }
-        let bounds: Vec<u32> = std::iter::once(rect[k])
-            .chain(cuts[k].iter().copied())
-            .chain(std::iter::once(rect[k + 2]))
-            .collect();
-        let parts = bounds
-            .windows(2)
-            .map(|b| {
-                let mut r = rect;
-                (r[k], r[k + 2]) = (b[0], b[1]);
-                self.cut(r, depth + 1)
-            })
+        let parts = (pieces(rect, k, &cuts[k]).into_iter())
+            .map(|r| self.cut(r, depth + 1))
             .collect::<Option<Vec<Panel>>>()?;
         // Along the cut, the parts with a body take the room the gutters and the parts of
         // text alone leave ([`crate::render::AxisMap::around_plots`]).

@@ -230,17 +230,8 @@ fn panel(
     if cuts[k].is_empty() {
         return me;
     }
-    let bounds: Vec<u32> = std::iter::once(rect[k])
-        .chain(cuts[k].iter().copied())
-        .chain(std::iter::once(rect[k + 2]))
-        .collect();
-    let parts = bounds
-        .windows(2)
-        .map(|b| {
-            let mut r = rect;
-            (r[k], r[k + 2]) = (b[0], b[1]);
-            panel(image, text, areas, r, depth + 1)
-        })
+    let parts = (pieces(rect, k, &cuts[k]).into_iter())
+        .map(|r| panel(image, text, areas, r, depth + 1))
         .collect();
     me.split = Some(Split {
         columns: k == 0,
@@ -248,6 +239,21 @@ fn panel(
         own: false,
     });
     me
+}
+
+/// The pieces of `rect` cut along axis `k` at `cuts` (sorted, inside it): they tile it.
+pub(super) fn pieces(rect: [u32; 4], k: usize, cuts: &[u32]) -> Vec<[u32; 4]> {
+    let bounds: Vec<u32> = std::iter::once(rect[k])
+        .chain(cuts.iter().copied())
+        .chain(std::iter::once(rect[k + 2]))
+        .collect();
+    (bounds.windows(2))
+        .map(|b| {
+            let mut r = rect;
+            (r[k], r[k + 2]) = (b[0], b[1]);
+            r
+        })
+        .collect()
 }
 
 /// `spans` grown over the extent along axis `k` of a word across either of their ends (a
