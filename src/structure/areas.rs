@@ -75,23 +75,73 @@ impl DataArea {
 
 /// The data areas bounded by `horizontal` and `vertical` lines on a `w × h` picture.
 pub(crate) fn detect(horizontal: &[Line], vertical: &[Line], w: f64, h: f64) -> Vec<DataArea> {
+    detect_in(horizontal, vertical, [0.0, 0.0, w, h], false)
+}
+
+/// The data areas bounded by the lines lying in `rect` (`[x0, y0, x1, y1]`), long as a share
+/// of its sides: the plots of a card, whose frame the whole picture's areas take for theirs
+/// (a frame's corners make an area, and the plot inside it is one with it).
+pub(crate) fn within(horizontal: &[Line], vertical: &[Line], rect: [f64; 4]) -> Vec<DataArea> {
+    let inside = |l: &Line, pos: (f64, f64), along: (f64, f64)| {
+        l.pos >= pos.0
+            && l.pos <= pos.1
+            && l.from >= along.0 - CORNER_PX
+            && l.to <= along.1 + CORNER_PX
+    };
+    let (xs, ys) = ((rect[0], rect[2]), (rect[1], rect[3]));
+    let hs: Vec<Line> = (horizontal.iter().copied())
+        .filter(|l| inside(l, ys, xs))
+        .collect();
+    let vs: Vec<Line> = (vertical.iter().copied())
+        .filter(|l| inside(l, xs, ys))
+        .collect();
+    detect_in(&pieces_joined(&hs), &pieces_joined(&vs), rect, true)
+}
+
+/// The pieces of a line at one position as one line, whatever the gaps between them: in a
+/// card, a grid line broken where a series crosses it.
+fn pieces_joined(lines: &[Line]) -> Vec<Line> {
+    let mut sorted = lines.to_vec();
+    sorted.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.from.total_cmp(&b.from)));
+    let mut out: Vec<Line> = Vec::with_capacity(sorted.len());
+    for l in sorted {
+        match out.last_mut() {
+            Some(o) if (o.pos - l.pos).abs() < 0.75 => {
+                o.to = o.to.max(l.to);
+                o.width = o.width.max(l.width);
+            }
+            _ => out.push(l),
+        }
+    }
+    out
+}
+
+/// The data areas of the lines in `rect`; `ragged`: a grid's lines need share one end only
+/// (see [`grids`]).
+fn detect_in(
+    horizontal: &[Line],
+    vertical: &[Line],
+    rect: [f64; 4],
+    ragged: bool,
+) -> Vec<DataArea> {
+    let (w, h) = (rect[2] - rect[0], rect[3] - rect[1]);
     let long = |l: &&Line, side: f64| l.to - l.from >= (MIN_SHARE * side).max(MIN_PX);
     let (horizontal, vertical) = (joined(horizontal), joined(vertical));
     let hs: Vec<&Line> = horizontal.iter().filter(|l| long(l, w)).collect();
     let vs: Vec<&Line> = vertical.iter().filter(|l| long(l, h)).collect();
     let mut found = Vec::new();
     corners(&hs, &vs, &mut found);
-    grids(&hs, true, &mut found);
-    grids(&vs, false, &mut found);
+    grids(&hs, true, ragged, &mut found);
+    grids(&vs, false, ragged, &mut found);
     bars(&hs, &vertical, &mut found);
     let min_side = MIN_PX;
     found.retain(|a: &DataArea| a.x1 - a.x0 >= min_side && a.y1 - a.y0 >= min_side);
     // Clear of the canvas border, which the boundary conditions hold.
     for a in &mut found {
-        a.x0 = a.x0.max(1.0);
-        a.y0 = a.y0.max(1.0);
-        a.x1 = a.x1.min(w - 1.0);
-        a.y1 = a.y1.min(h - 1.0);
+        a.x0 = a.x0.max(rect[0] + 1.0);
+        a.y0 = a.y0.max(rect[1] + 1.0);
+        a.x1 = a.x1.min(rect[2] - 1.0);
+        a.y1 = a.y1.min(rect[3] - 1.0);
     }
     merge(found)
 }
@@ -147,8 +197,9 @@ fn corners(hs: &[&Line], vs: &[&Line], out: &mut Vec<DataArea>) {
     }
 }
 
-/// Rectangles spanned by evenly spaced parallel lines of one span.
-fn grids(lines: &[&Line], horizontal: bool, out: &mut Vec<DataArea>) {
+/// Rectangles spanned by evenly spaced parallel lines of one span; `ragged`: of one start
+/// or one end, the rectangle spanning the longest (a grid a series covers in part).
+fn grids(lines: &[&Line], horizontal: bool, ragged: bool, out: &mut Vec<DataArea>) {
     let mut sorted: Vec<&Line> = lines.to_vec();
     sorted.sort_by(|a, b| a.pos.total_cmp(&b.pos));
     let mut used = vec![false; sorted.len()];
@@ -160,9 +211,11 @@ fn grids(lines: &[&Line], horizontal: bool, out: &mut Vec<DataArea>) {
         let tol = CORNER_PX.max(0.03 * (l.to - l.from));
         let same: Vec<usize> = (i..sorted.len())
             .filter(|&j| {
-                !used[j]
-                    && (sorted[j].from - l.from).abs() <= tol
-                    && (sorted[j].to - l.to).abs() <= tol
+                let (from, to) = (
+                    (sorted[j].from - l.from).abs() <= tol,
+                    (sorted[j].to - l.to).abs() <= tol,
+                );
+                !used[j] && ((from && to) || ragged && (from || to))
             })
             .collect();
         // Positions a pixel or two apart are the two edges of one separator.
@@ -189,7 +242,9 @@ fn grids(lines: &[&Line], horizontal: bool, out: &mut Vec<DataArea>) {
             used[j] = true;
         }
         let (a0, a1) = (pos[0], pos[pos.len() - 1]);
-        let (b0, b1) = (l.from, l.to);
+        let (b0, b1) = (same.iter())
+            .map(|&j| (sorted[j].from, sorted[j].to))
+            .fold((l.from, l.to), |(a, b), (f, t)| (a.min(f), b.max(t)));
         out.push(if horizontal {
             DataArea {
                 x0: b0,
@@ -286,6 +341,31 @@ mod tests {
             to,
             width: 1,
         }
+    }
+
+    /// A card's frame holding a plot: the picture's areas take the frame for the plot (the
+    /// grid inside is one with it), the card's own find the grid, though a series hides
+    /// part of one of its lines (pieces) and the end of another (ragged).
+    #[test]
+    fn a_plot_inside_a_frame_is_found_within_it() {
+        let frame_h = [line(20.0, 10.0, 410.0), line(300.0, 10.0, 410.0)];
+        let frame_v = [line(10.0, 20.0, 300.0), line(410.0, 20.0, 300.0)];
+        let mut hs = frame_h.to_vec();
+        for (i, y) in [80.0, 120.0, 160.0, 200.0, 240.0].into_iter().enumerate() {
+            match i {
+                1 => hs.extend([line(y, 60.0, 200.0), line(y, 260.0, 380.0)]),
+                3 => hs.push(line(y, 60.0, 300.0)),
+                _ => hs.push(line(y, 60.0, 380.0)),
+            }
+        }
+        let whole = detect(&hs, &frame_v, 640.0, 340.0);
+        assert_eq!(whole.len(), 1, "{whole:?}");
+        assert_eq!(whole[0].kind, AreaKind::Axes);
+        let inside = within(&hs, &frame_v, [11.0, 21.0, 409.0, 299.0]);
+        assert_eq!(inside.len(), 1, "{inside:?}");
+        let a = inside[0];
+        assert_eq!(a.kind, AreaKind::Grid);
+        assert_eq!([a.x0, a.y0, a.x1, a.y1], [60.0, 80.0, 380.0, 240.0]);
     }
 
     #[test]
