@@ -251,14 +251,18 @@ fn bands_json(b: &crate::structure::Bands) -> serde_json::Value {
 fn text_out_json(input: &Image, mesh: &Mesh, warp: &Warp) -> serde_json::Value {
     let out = warp.positions();
     let maps = warp.area_maps(mesh);
-    let placed = mesh.structure().map_or(Vec::new(), |s| {
-        let canvas = (s.whole_canvas())
-            .then(|| crate::render::canvas_map(Some(s), mesh.size(), warp.target()));
-        let maps = AreaMaps {
-            areas: &maps,
-            canvas: canvas.as_ref(),
-        };
-        area_text_placements(input, s, maps, warp.target())
+    // The canvas' map and placements as the render stage chose them.
+    let canvas = (mesh.structure().is_some_and(|s| s.whole_canvas()))
+        .then(|| crate::retarget::stages::laid_out(input, mesh, warp, warp.target()));
+    let placed = mesh.structure().map_or(Vec::new(), |s| match &canvas {
+        Some((_, Some(placed))) => placed.clone(),
+        _ => {
+            let maps = AreaMaps {
+                areas: &maps,
+                canvas: canvas.as_ref().map(|c| &c.0),
+            };
+            area_text_placements(input, s, maps, warp.target())
+        }
     });
     let floated = |k: usize| -> Option<serde_json::Value> {
         let p = (*placed.get(k)?)?;
@@ -299,7 +303,26 @@ fn text_out_json(input: &Image, mesh: &Mesh, warp: &Warp) -> serde_json::Value {
                 Some(b) if b[5] > b[4] => {
                     serde_json::json!([b[0], b[1], b[2], b[3], (b[2] - b[0]) / (b[5] - b[4])])
                 }
-                _ => serde_json::Value::Null,
+                // Drawn by the canvas' map (text that goes with a card's body).
+                _ => match (&canvas, mesh.structure().and_then(|s| s.text.get(k))) {
+                    (Some((map, _)), Some(t)) => {
+                        let c = glam::DVec2::new(
+                            (t.x0 + t.x1) as f64 / 2.0,
+                            (t.y0 + t.y1) as f64 / 2.0,
+                        );
+                        let [ax, bx, ay, by] = map.local(c);
+                        let (hw, hh) = ((t.x1 - t.x0) as f64 / 2.0, (t.y1 - t.y0) as f64 / 2.0);
+                        let (cx, cy) = (ax * c.x + bx, ay * c.y + by);
+                        serde_json::json!([
+                            cx - ax * hw,
+                            cy - ay * hh,
+                            cx + ax * hw,
+                            cy + ay * hh,
+                            ax
+                        ])
+                    }
+                    _ => serde_json::Value::Null,
+                },
             })
         })
         .collect()

@@ -343,3 +343,67 @@ fn a_page_of_cards_lays_each_card_out_in_its_slot() {
     assert!((w / h - 1.0).abs() < 0.08, "blob {w} x {h}");
     assert!(w > 180.0 * 0.66, "blob {w} wide, letterboxed 108");
 }
+
+/// A page of two cards, the right one a chart: five grid lines evenly spaced (one broken
+/// where a series crosses it), tick labels left of them and under the last.
+fn cards_with_a_plot() -> Image {
+    let mut img = Image::filled(Size::new(800, 500).unwrap(), GROUND);
+    for x0 in [10, 405] {
+        rect(&mut img, x0, 10, x0 + 385, 490, [200, 200, 200, 255]);
+        rect(&mut img, x0 + 1, 11, x0 + 384, 489, [255; 4]);
+    }
+    draw_label(&mut img, 26.0, 22.0, LABEL_PX, "Sales by state");
+    draw_label(&mut img, 421.0, 22.0, LABEL_PX, "Visits");
+    disc(&mut img, 200.0, 270.0, 90.0, BLUE);
+    for (i, l) in ["100", "75", "50", "25", "0"].iter().enumerate() {
+        let y = PLOT_GRID[i];
+        rect(&mut img, 480, y, 760, y + 2, [190, 190, 190, 255]);
+        draw_label(&mut img, 430.0, y as f32 - 10.0, LABEL_PX, l);
+    }
+    for (i, l) in ["Q1", "Q2", "Q3", "Q4"].iter().enumerate() {
+        draw_label(&mut img, 500.0 + 80.0 * i as f32, 395.0, LABEL_PX, l);
+    }
+    // The series: a thick red stroke across the middle line.
+    rect(&mut img, 600, 200, 612, 300, DOT);
+    img
+}
+
+/// Rows of the grid lines of [`cards_with_a_plot`].
+const PLOT_GRID: [u32; 5] = [100, 170, 240, 310, 380];
+
+/// A card holding a plot (its grid inside the card's frame, which the picture's data areas
+/// take for the plot) is laid out as its author would re-render it for a shorter screen:
+/// the plot squeezed to the room the card leaves, its tick labels at their size.
+#[test]
+fn a_cards_plot_is_squeezed_and_its_labels_keep_their_size() {
+    let img = cards_with_a_plot();
+    let target = Size::new(800, 300).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap();
+    assert_eq!(out.stats.fitted, None, "laid out, not letterboxed");
+    assert!(out.stats.panels >= 2, "{} panels", out.stats.panels);
+    let out = out.image;
+    // The grid lines, down a column of the plot clear of the series (inside the card's
+    // frame, whose lines stand at its slot's top and bottom).
+    let grey = |p: [u8; 4]| p[0] > 150 && p[0] < 225 && p[0] == p[2];
+    let mut lines: Vec<u32> = Vec::new();
+    for y in 15..285 {
+        if grey(out.get(720, y)) && lines.last().is_none_or(|&l| y > l + 2) {
+            lines.push(y);
+        }
+    }
+    assert_eq!(lines.len(), 5, "grid lines at {lines:?}");
+    let spacing = (lines[4] - lines[0]) as f64 / 4.0;
+    assert!(spacing < 0.7 * 70.0, "squeezed: spacing {spacing}");
+    // Its width kept: the top line still spans the plot's 280 px.
+    let width = (400..800).filter(|&x| grey(out.get(x, lines[0]))).count();
+    assert!(width as f64 >= 0.9 * 280.0, "plot width {width}");
+    // The tick labels left of the plot keep their height.
+    let src = ink_rows(&img, [428, 478], [85, 108]).unwrap();
+    for &y in &lines[..1] {
+        let now = ink_rows(&out, [410, 478], [y.saturating_sub(14), y + 12]).expect("a label");
+        assert!(
+            (now[1] - now[0]).abs_diff(src[1] - src[0]) <= 1,
+            "label height kept: {now:?} against {src:?}"
+        );
+    }
+}

@@ -491,6 +491,9 @@ pub struct PanelMap {
     pub slot: [u32; 4],
     pub x: AxisMap,
     pub y: AxisMap,
+    /// The source rectangle the panel keeps at one scale, text and all (a card's body not
+    /// squeezed), if any.
+    pub body: Option<[u32; 4]>,
 }
 
 /// The panel of `panels` that holds source point `q` (the nearest where none does: a point

@@ -285,7 +285,7 @@ struct TextLayout<'a> {
     /// Least scale a block floats at ([`MIN_TEXT_FLOAT`]; on a page of cards, where text
     /// that cannot float leaves the page to a letterbox, the letterbox's scale where less).
     least_float: f64,
-    /// The page is laid out as cards ([`crate::structure::Panel::body`]).
+    /// The page is laid out as cards ([`crate::structure::Card`]).
     cards: bool,
     /// Thin crowded rows of tick labels ([`TextLayout::thin`]).
     thinning: bool,
@@ -403,8 +403,18 @@ impl<'a> TextLayout<'a> {
     /// ([`crate::structure::Bands::in_plot`]): a label on a mark, a cell's value.
     fn in_plot(&self, i: usize) -> bool {
         let t = &self.text[i];
-        self.on_canvas(t)
-            && (self.st.bands.in_plot(t) || (self.cards && self.st.bands.in_card_body(t)))
+        self.on_canvas(t) && (self.st.bands.in_plot(t) || (self.cards && self.in_card_body(t)))
+    }
+
+    /// Whether block `t` stands inside the body of a card drawn at one scale
+    /// ([`crate::structure::Card`]): its text (a map's names, a table's cells, the labels of
+    /// a plot not squeezed) goes with it, as a plot's does.
+    fn in_card_body(&self, t: &TextBlock) -> bool {
+        let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
+        let inside = |b: [u32; 4]| (b[0]..b[2]).contains(&cx) && (b[1]..b[3]).contains(&cy);
+        (self.maps.canvas.iter())
+            .flat_map(|c| &c.panels)
+            .any(|m| m.body.is_some_and(inside))
     }
 
     /// Whether block `t` lies on a canvas taken whole.

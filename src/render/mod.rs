@@ -21,7 +21,7 @@ pub(crate) use fill::fill_from_surroundings;
 pub(crate) use fit::Fit;
 pub(crate) use floating::{area_marks, area_text_layout, Floating, MaskKind, RIM_PX};
 pub use floating::{area_text_placements, TextPlacement};
-pub(crate) use panels::canvas_map;
+pub(crate) use panels::{canvas_map, squeezes};
 pub use resize::{resize_linear, resize_mapped};
 pub(crate) use resize::{resize_mapped_on, Threads};
 

@@ -12,17 +12,39 @@ use crate::structure::{Card, Panel, Structure};
 
 /// The map of a canvas taken whole: its panels' ([`laid_out`]) where gutters split its
 /// plots apart and that lays anything out, else the picture's own ([`CanvasMap::new`]).
-pub(crate) fn canvas_map(structure: Option<&Structure>, source: Size, target: Size) -> CanvasMap {
+/// `squeeze`: a card's plots take the room its parts leave (else the card keeps one scale,
+/// as a card without plots does: where its type cannot keep its size beside a squeezed
+/// plot).
+pub(crate) fn canvas_map(
+    structure: Option<&Structure>,
+    source: Size,
+    target: Size,
+    squeeze: bool,
+) -> CanvasMap {
     let panels = structure.and_then(|s| s.bands.panels.as_ref());
-    match panels.and_then(|p| laid_out(p, source, target)) {
+    match panels.and_then(|p| laid_out(p, source, target, squeeze)) {
         Some(map) => map,
         None => CanvasMap::new(structure, source, target),
     }
 }
 
+/// Whether a card of `root` holds plots, which [`canvas_map`] may squeeze.
+pub(crate) fn squeezes(structure: Option<&Structure>) -> bool {
+    let panels = structure.and_then(|s| s.bands.panels.as_ref());
+    panels.is_some_and(|p| {
+        (p.leaves().iter())
+            .any(|l| l.card.is_some() && !l.plots[0].is_empty() && !l.plots[1].is_empty())
+    })
+}
+
 /// The map of the panels of `root` from `source` onto `target`; `None` where every panel
 /// would be drawn as the linear resize draws it (nothing to lay out).
-pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<CanvasMap> {
+pub(crate) fn laid_out(
+    root: &Panel,
+    source: Size,
+    target: Size,
+    squeeze: bool,
+) -> Option<CanvasMap> {
     // A panel that lays itself out along an axis that shrinks, whose drawn content outside
     // its plots outweighs its type (a map, a picture, a table not found as plots), would be
     // squeezed as no part of a chart is: the picture is then not laid out by panels at all
@@ -44,6 +66,7 @@ pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<Canva
         root,
         [0, 0, target.width, target.height],
         [None, None],
+        squeeze,
         &mut panels,
     );
     let linear = CanvasMap::linear(source, target);
@@ -61,8 +84,8 @@ pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<Canva
     Some(CanvasMap { panels, ..linear })
 }
 
-/// Whether the cards' bodies, kept at one scale each, come out larger than the letterbox
-/// draws them, by [`LEAST_BODY_GROWTH`]: the largest of them, and all of them on average over
+/// Whether the cards' bodies (kept at one scale each, or plots squeezed, measured by the
+/// square root of their area's scale) come out larger than the letterbox draws them, by [`LEAST_BODY_GROWTH`]: the largest of them, and all of them on average over
 /// their area. Where the target narrows a page whose cards are as wide as their content,
 /// the room a card gains is height its body cannot use (judged blind: the reflow's empty
 /// halves of cards, around charts 4 to 7 % larger, lost to the letterbox at half width, and
@@ -70,19 +93,36 @@ pub(crate) fn laid_out(root: &Panel, source: Size, target: Size) -> Option<Canva
 fn bodies_grow(root: &Panel, panels: &[PanelMap], source: Size, target: Size) -> bool {
     let letterbox = (target.width as f64 / source.width as f64)
         .min(target.height as f64 / source.height as f64);
+    let least = letterbox * (1.0 + LEAST_BODY_GROWTH);
     let (mut area, mut scaled, mut largest) = (0.0, 0.0, (0.0, 0.0));
+    let (mut squeezed, mut stuck) = (false, false);
     for (leaf, map) in root.leaves().iter().zip(panels) {
-        let Some(b) = leaf.body() else { continue };
-        let a = (b[2] - b[0]) as f64 * (b[3] - b[1]) as f64;
-        let s = map.x.slope((b[0] + b[2]) as f64 / 2.0);
+        let Some(b) = leaf.card.as_ref().and_then(|c| c.body) else {
+            continue;
+        };
+        let a = (b[0][1] - b[0][0]) as f64 * (b[1][1] - b[1][0]) as f64;
+        // A plot squeezed along one axis grows as its area does.
+        let (sx, sy) = (
+            map.x.slope((b[0][0] + b[0][1]) as f64 / 2.0),
+            map.y.slope((b[1][0] + b[1][1]) as f64 / 2.0),
+        );
+        let s = (sx * sy).sqrt();
+        match map.body.is_some() {
+            true => stuck |= s < least,
+            false => squeezed = true,
+        }
         area += a;
         scaled += a * s;
         if a > largest.0 {
             largest = (a, s);
         }
     }
-    let least = letterbox * (1.0 + LEAST_BODY_GROWTH);
-    area <= 0.0 || (scaled / area >= least && largest.1 >= least)
+    // A squeezed plot's type keeps its size: a card beside it left at the letterbox's
+    // scale would set its type at half that size on one page (judged blind: a terminal's
+    // dashboard at half width, its charts' labels at size over its table's and log's at
+    // the letterbox's, ranked last by one judge of two).
+    let one_type = !(squeezed && stuck);
+    area <= 0.0 || (scaled / area >= least && largest.1 >= least && one_type)
 }
 
 /// Least growth of the cards' bodies over the letterbox for the page to be laid out as
@@ -91,21 +131,29 @@ const LEAST_BODY_GROWTH: f64 = 0.1;
 
 /// Lays out `p` in `slot`, following the maps an enclosing panel cut along each axis
 /// (`given`), and pushes its leaves' maps onto `out`.
-fn lay(p: &Panel, slot: [u32; 4], given: [Option<AxisMap>; 2], out: &mut Vec<PanelMap>) {
+fn lay(
+    p: &Panel,
+    slot: [u32; 4],
+    given: [Option<AxisMap>; 2],
+    squeeze: bool,
+    out: &mut Vec<PanelMap>,
+) {
     let maps: [AxisMap; 2] =
         std::array::from_fn(|k| given[k].clone().unwrap_or_else(|| own(p, slot, k)));
     let Some(split) = &p.split else {
-        let [x, y] = match &p.card {
-            Some(card) if p.plots[0].is_empty() || p.plots[1].is_empty() => {
-                card_maps(p, card, slot)
+        let ([x, y], body) = match &p.card {
+            Some(card) if !squeeze || p.plots[0].is_empty() || p.plots[1].is_empty() => {
+                let body = card.body.map(|b| [b[0][0], b[1][0], b[0][1], b[1][1]]);
+                (card_maps(p, card, slot), body)
             }
-            _ => maps,
+            _ => (maps, None),
         };
         out.push(PanelMap {
             src: p.rect,
             slot,
             x,
             y,
+            body,
         });
         return;
     };
@@ -126,7 +174,7 @@ fn lay(p: &Panel, slot: [u32; 4], given: [Option<AxisMap>; 2], out: &mut Vec<Pan
         if split.own {
             g = [None, None];
         }
-        lay(c, s, g, out);
+        lay(c, s, g, squeeze, out);
     }
 }
 

@@ -14,7 +14,7 @@
 
 use super::spans::{merged, runs_where};
 use super::text::ALIGNED_PX;
-use super::{DataArea, TextBlock};
+use super::{DataArea, Line, TextBlock};
 use crate::image::ImageRef;
 
 /// Most step between neighbouring pixels (any channel) that still counts as flat: exact for
@@ -171,15 +171,6 @@ impl Bands {
         let inside = |r: &[u32; 4]| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy);
         self.plot_rects.iter().any(inside)
     }
-
-    /// Whether text block `t` stands inside the body of a card ([`super::cards`]), which
-    /// keeps one scale where the page is laid out as cards: its text (a map's names, a
-    /// table's cells) goes with it, as a plot's does.
-    pub fn in_card_body(&self, t: &super::TextBlock) -> bool {
-        let (cx, cy) = ((t.x0 + t.x1) / 2, (t.y0 + t.y1) / 2);
-        let inside = |r: [u32; 4]| (r[0]..r[2]).contains(&cx) && (r[1]..r[3]).contains(&cy);
-        (self.panels.iter()).any(|p| p.leaves().iter().any(|l| l.body().is_some_and(inside)))
-    }
 }
 
 /// The plots a stream keeps: those it had, while it had any (a plot that moves by a few
@@ -218,7 +209,12 @@ fn common(a: &[[u32; 2]], b: &[[u32; 2]]) -> Vec<[u32; 2]> {
 }
 
 /// The text bands of `image` with text blocks `text`, none inside `areas`.
-pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]) -> Bands {
+pub(crate) fn detect(
+    image: ImageRef<'_>,
+    text: &[TextBlock],
+    areas: &[DataArea],
+    lines: [&[Line]; 2],
+) -> Bands {
     let (w, h) = (image.width(), image.height());
     if w < 3 || h < 3 {
         return Bands::default();
@@ -263,8 +259,22 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
         .collect();
     // Cards on a page's ground lay themselves out each in its slot; else the panels of a
     // figure, between its plots.
-    bands.panels = super::cards::detect(image, text, &bands.plot_rects, ground_of(image))
-        .or_else(|| super::panels::detect(image, text, areas));
+    bands.panels = super::cards::detect(image, text, &bands.plot_rects, lines, ground_of(image));
+    match &bands.panels {
+        // A card's plots are those found inside it: the picture's data areas took its
+        // frame for one, and every word in the card (its title, its tick labels) for a
+        // word inside a plot.
+        Some(cards) => {
+            bands.plot_rects = (cards.leaves().iter())
+                .flat_map(|l| {
+                    let [xs, ys] = &l.plots;
+                    xs.iter()
+                        .flat_map(move |x| ys.iter().map(move |y| [x[0], y[0], x[1], y[1]]))
+                })
+                .collect();
+        }
+        None => bands.panels = super::panels::detect(image, text, areas),
+    }
     if text.is_empty() {
         // Without text no part is kept (it holds no type) and the layout declines unless the
         // plots reach the edge's margins: those are its blank runs (not read again: a
@@ -639,7 +649,7 @@ mod tests {
                 img.set(x, y, [200 - (x as u8) / 2, 80, 40, 255]);
             }
         }
-        let b = detect(img.as_ref(), &[], &[]);
+        let b = detect(img.as_ref(), &[], &[], [&[], &[]]);
         // Clean columns and rows stop two short of a step (a step reaches two pixels).
         assert_eq!(b.gaps_x, vec![[0, 38], [162, 200]]);
         assert_eq!(b.margins_x, b.gaps_x);
@@ -672,7 +682,7 @@ mod tests {
                 }],
                 false => Vec::new(),
             };
-            let (fast, full) = (detect(img.as_ref(), &[], &areas), scan(img.as_ref(), &[], &areas));
+            let (fast, full) = (detect(img.as_ref(), &[], &areas, [&[], &[]]), scan(img.as_ref(), &[], &areas));
             prop_assert_eq!(fast.gaps_x, full.gaps_x);
             prop_assert_eq!(fast.gaps_y, full.gaps_y);
             prop_assert!(fast.x.is_empty() && fast.y.is_empty());
@@ -701,7 +711,7 @@ mod tests {
         }
         // A label above the dot: its column has a step (the dot), so it is no band.
         let text = [block(5, 40, 19, 49), block(95, 10, 110, 20)];
-        let b = detect(img.as_ref(), &text, &[]);
+        let b = detect(img.as_ref(), &text, &[], [&[], &[]]);
         assert_eq!(b.x, vec![[5, 20]]);
         // Rows 40..50 hold the label and the dot's rows do not overlap them; rows 10..20
         // hold the second label alone.
@@ -733,15 +743,15 @@ mod tests {
             block(150, 40, 190, 52),
             block(150, 70, 190, 82),
         ];
-        let b = detect(img.as_ref(), &labels, &[]);
+        let b = detect(img.as_ref(), &labels, &[], [&[], &[]]);
         assert!(b.y.is_empty(), "{:?}", b.y);
         let mut with_ring = labels.to_vec();
         with_ring.push(block(130, 71, 141, 82));
-        let b = detect(img.as_ref(), &with_ring, &[]);
+        let b = detect(img.as_ref(), &with_ring, &[], [&[], &[]]);
         assert!(b.y.iter().all(|r| r[1] <= 70 || r[0] >= 83), "{:?}", b.y);
         // Without the mark the whole column lends its rows.
         let clean = Image::filled(Size::new(220, 120).unwrap(), [255; 4]);
-        let b = detect(clean.as_ref(), &labels, &[]);
+        let b = detect(clean.as_ref(), &labels, &[], [&[], &[]]);
         assert_eq!(b.y, vec![[10, 23], [40, 53], [70, 83]]);
     }
 
@@ -791,7 +801,7 @@ mod tests {
                 img.set(x, y, [v, v, 255, 255]);
             }
         }
-        let b = detect(img.as_ref(), &[block(40, 30, 60, 40)], &[]);
+        let b = detect(img.as_ref(), &[block(40, 30, 60, 40)], &[], [&[], &[]]);
         assert!(b.x.is_empty(), "{:?}", b.x);
     }
 
@@ -809,6 +819,7 @@ mod tests {
             img.as_ref(),
             &[block(50, 5, 60, 15), block(5, 50, 15, 60)],
             &[area],
+            [&[], &[]],
         );
         assert_eq!(b.x, vec![[5, 16]]);
         assert_eq!(b.y, vec![[5, 16]]);

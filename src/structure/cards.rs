@@ -12,7 +12,7 @@
 
 use super::panels::{clean_lines, grown_over, pieces, Card, Panel, Split};
 use super::spans::{merged, runs_where};
-use super::TextBlock;
+use super::{areas, Line, TextBlock};
 use crate::image::ImageRef;
 
 /// Most a pixel may differ from a colour, per channel, and still be of it: flat fills but
@@ -39,15 +39,24 @@ const JOIN_PX: u32 = 12;
 const COLOURS_COUNTED: usize = 32;
 /// Least share of a card's sides a data area covers to be the card's frame.
 const CARD_FRAME_SHARE: f64 = 0.9;
+/// Least share of a card's inside an x axis drawn alone spans ([`Page::labelled_axis`]).
+const AXIS_SHARE: f64 = 0.5;
+/// Least tick labels along each of its axes for a plot of an x axis drawn alone: three
+/// make a scale, two may be a legend's.
+const AXIS_LABELS: usize = 3;
+/// How far from its axis a tick label stands, in its heights (tick, padding).
+const AXIS_REACH_LINES: u32 = 3;
 /// Pixels at each end of a frame's line that its rounded corners may take.
 const CORNER_PX: u32 = 8;
 
-/// The cards of `image` (text `text`, labelled plots `plots`) on its page's `ground`; `None`
-/// where no gutter splits it or a part with drawn content is not boxed.
+/// The cards of `image` (text `text`, labelled plots `plots`, lines `lines`: horizontal,
+/// vertical) on its page's `ground`; `None` where no gutter splits it or a part with drawn
+/// content is not boxed.
 pub(crate) fn detect(
     image: ImageRef<'_>,
     text: &[TextBlock],
     plots: &[[u32; 4]],
+    lines: [&[Line]; 2],
     ground: [u8; 3],
 ) -> Option<Panel> {
     let (w, h) = (image.width(), image.height());
@@ -58,7 +67,9 @@ pub(crate) fn detect(
         image,
         text,
         plots,
+        lines,
         ground: [ground[0], ground[1], ground[2], 255],
+        tallest_line: text.iter().map(|t| t.line_height).max().unwrap_or(0),
     };
     let root = page.cut([0, 0, w, h], 0)?;
     root.split.as_ref()?;
@@ -71,7 +82,10 @@ struct Page<'a> {
     image: ImageRef<'a>,
     text: &'a [TextBlock],
     plots: &'a [[u32; 4]],
+    lines: [&'a [Line]; 2],
     ground: [u8; 4],
+    /// The tallest line of type, pixels: how far a title may stand out of its frame.
+    tallest_line: u32,
 }
 
 fn near(a: [u8; 4], b: [u8; 4]) -> bool {
@@ -103,6 +117,16 @@ impl Page<'_> {
             .is_none()
     }
 
+    /// Whether something crosses the run of ground lines `g` along axis `k` in `rect`: a
+    /// pixel off the ground on every line of it (a tall card's thin side, which the stray
+    /// pixels a ground line may have would let a cut sever).
+    fn crossed(&self, rect: [u32; 4], k: usize, g: [u32; 2]) -> bool {
+        let o = 1 - k;
+        (rect[o]..rect[o + 2])
+            .filter(|&q| !near(self.on_line(k, g[0], q), self.ground))
+            .any(|q| (g[0] + 1..g[1]).all(|p| !near(self.on_line(k, p, q), self.ground)))
+    }
+
     /// Whether line `p` along axis `k` is one colour across `rect` but near its ends (a
     /// frame's line or the padding inside it, between rounded corners).
     fn plain_line(&self, rect: [u32; 4], k: usize, p: u32) -> bool {
@@ -121,6 +145,7 @@ impl Page<'_> {
             runs_where(lo, hi, |p| self.ground_line(rect, k, p))
                 .into_iter()
                 .filter(|g| g[0] > lo && g[1] < hi && g[1] - g[0] >= LEAST_GUTTER_PX)
+                .filter(|g| !self.crossed(rect, k, *g))
                 .collect()
         });
         let cuts: [Vec<u32>; 2] = std::array::from_fn(|k| {
@@ -168,19 +193,20 @@ impl Page<'_> {
         Some(me)
     }
 
+    /// The boxes of the text blocks whose centre lies in `rect`.
+    fn words(&self, rect: [u32; 4]) -> Vec<[u32; 4]> {
+        (self.text.iter())
+            .map(|t| [t.x0, t.y0, t.x1 + 1, t.y1 + 1])
+            .filter(|&t| centre_in(rect, t))
+            .collect()
+    }
+
     /// A panel of `rect` with its type's spans and its labelled plots' (grown over the words
     /// across their ends, as [`super::panels`] grows them), nothing else yet.
     fn spans(&self, rect: [u32; 4]) -> Panel {
-        let centre_in = |b: [u32; 4]| {
-            let (cx, cy) = ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2);
-            cx >= rect[0] && cx < rect[2] && cy >= rect[1] && cy < rect[3]
-        };
-        let words: Vec<[u32; 4]> = (self.text.iter())
-            .map(|t| [t.x0, t.y0, t.x1 + 1, t.y1 + 1])
-            .filter(|&t| centre_in(t))
-            .collect();
+        let words = self.words(rect);
         let plots: Vec<[u32; 4]> = (self.plots.iter().copied())
-            .filter(|&p| centre_in(p))
+            .filter(|&p| centre_in(rect, p))
             .collect();
         let along = |b: &[u32; 4], k: usize| [b[k], b[k + 2]];
         Panel {
@@ -200,10 +226,11 @@ impl Page<'_> {
     /// it holds no drawn content, `None` (no page of cards) otherwise.
     fn leaf(&self, rect: [u32; 4]) -> Option<Panel> {
         let mut me = self.spans(rect);
-        let Some(boxed) = self.content(rect) else {
+        let Some(content) = self.content(rect) else {
             // Ground alone: a part of no content.
             return Some(me);
         };
+        let (boxed, titles) = self.framed(content);
         // A data area as large as the card is the card's frame, not a plot in it.
         let frame = |s: &[[u32; 2]], k: usize| {
             let side = (boxed[k + 2] - boxed[k]) as f64;
@@ -212,8 +239,8 @@ impl Page<'_> {
         if frame(&me.plots[0], 0) && frame(&me.plots[1], 1) {
             me.plots = [Vec::new(), Vec::new()];
         }
-        let inside = self.boxed(boxed).map(|fill| {
-            let inner = self.inner(boxed);
+        let inside = self.boxed(boxed, &titles).map(|fill| {
+            let inner = self.inner(boxed, &titles);
             let body = inner.and_then(|i| self.body(i, fill));
             let i = inner.unwrap_or(boxed);
             let stretch = std::array::from_fn(|k| match body {
@@ -235,6 +262,9 @@ impl Page<'_> {
             // on the ground as the rest of a chart is: no page of cards.
             Some((None, _, _)) => None,
             Some((Some(inner), body, stretch)) => {
+                if me.plots[0].is_empty() || me.plots[1].is_empty() {
+                    me.plots = self.plots_in(inner);
+                }
                 me.card = Some(Card {
                     body,
                     frame: boxed,
@@ -253,10 +283,81 @@ impl Page<'_> {
             }
             None => {
                 // Unboxed: only text on the ground (a page's title) may stand outside cards.
-                let ink = self.ink(boxed, self.ground);
+                let ink = self.ink(content, self.ground);
                 (!ink.iter().any(|&i| i)).then_some(me)
             }
         }
+    }
+
+    /// The labelled plots inside a card's `inner` box, along each axis (grown over the words
+    /// across their ends): the picture's data areas took the card's frame for the plot.
+    fn plots_in(&self, inner: [u32; 4]) -> [Vec<[u32; 2]>; 2] {
+        let r = inner.map(|v| v as f64);
+        let mut found: Vec<[u32; 4]> = (areas::within(self.lines[0], self.lines[1], r).iter())
+            .map(|a| [a.x0, a.y0, a.x1, a.y1].map(|v| v.round() as u32))
+            .filter(|&a| super::panels::labelled(a, self.text))
+            .collect();
+        if found.is_empty() {
+            found.extend(self.labelled_axis(inner));
+        }
+        // Only the words on an axis' side of a plot (its tick labels, left and under it)
+        // grow it: a card's title over the plot may straddle its end.
+        let words = self.words(inner);
+        std::array::from_fn(|k| {
+            let o = 1 - k;
+            let axis_side: Vec<[u32; 4]> = (words.iter().copied())
+                .filter(|t| {
+                    let c = (t[o] + t[o + 2]) / 2;
+                    found.iter().any(|b| match k {
+                        0 => c >= b[1] && t[1] >= b[1],
+                        _ => c < b[2] && t[2] <= b[2],
+                    })
+                })
+                .collect();
+            let bare = merged(found.iter().map(|b| [b[k], b[k + 2]]));
+            grown_over(&bare, &axis_side, k)
+        })
+    }
+
+    /// The plot over an x axis drawn without its y axis (a web chart's baseline, a
+    /// terminal's dotted axis): a long line across `inner` with tick labels under it, and
+    /// a column of tick labels at its start, the plot reaching up to the topmost of them.
+    fn labelled_axis(&self, inner: [u32; 4]) -> Option<[u32; 4]> {
+        let long = (inner[2] - inner[0]) as f64 * AXIS_SHARE;
+        let words = self.words(inner);
+        (self.lines[0].iter())
+            .filter(|l| {
+                let inside = |v: f64, lo: u32, hi: u32| v >= lo as f64 && v <= hi as f64;
+                l.to - l.from >= long
+                    && inside(l.pos, inner[1], inner[3])
+                    && inside(l.from, inner[0], inner[2])
+                    && inside(l.to, inner[0], inner[2])
+            })
+            .filter_map(|l| {
+                let (pos, from, to) = (l.pos as u32, l.from as u32, l.to as u32);
+                let reach = |t: &[u32; 4]| AXIS_REACH_LINES * (t[3] - t[1]);
+                let under = (words.iter())
+                    .filter(|t| {
+                        let cx = (t[0] + t[2]) / 2;
+                        t[1] >= pos && t[1] <= pos + reach(t) && (from..to).contains(&cx)
+                    })
+                    .count();
+                let left: Vec<&[u32; 4]> = (words.iter())
+                    .filter(|t| {
+                        // Up to its own height past the axis' start: the tick drawn with it.
+                        let end = from + (t[3] - t[1]);
+                        t[0] < from && t[2] <= end && t[2] + reach(t) >= from && t[3] <= pos + 2
+                    })
+                    .collect();
+                let top = left.iter().map(|t| (t[1] + t[3]) / 2).min()?;
+                (under >= AXIS_LABELS && left.len() >= AXIS_LABELS && top + 1 < pos).then_some([
+                    from,
+                    top,
+                    to,
+                    pos + 1,
+                ])
+            })
+            .max_by_key(|p| (p[2] - p[0]) * (p[3] - p[1]))
     }
 
     /// `rect` less the ground lines around it; `None` for ground alone.
@@ -279,25 +380,119 @@ impl Page<'_> {
 
     /// The fill of box `r` where its four edges are each mostly one colour other than the
     /// ground (a frame or a fill): the commonest colour of its inside.
-    fn boxed(&self, r: [u32; 4]) -> Option<[u8; 4]> {
+    fn boxed(&self, r: [u32; 4], titles: &[[u32; 4]]) -> Option<[u8; 4]> {
         if r[2] - r[0] < LEAST_CARD_PX || r[3] - r[1] < LEAST_CARD_PX {
             return None;
         }
+        // Along each line, the span the titles set in it hide.
         let edge = |k: usize, p: u32| {
             let o = 1 - k;
-            let at = |q: u32| self.on_line(k, p, q);
-            let (lo, hi) = (r[o], r[o + 2]);
-            let n = hi - lo;
-            // The colour of a quarter, the middle or three quarters along, whichever most
-            // of the line has (a title set in the frame's line hides one of them).
-            [1, 2, 3].iter().any(|i| {
-                let c = at(lo + n * i / 4);
-                let same = (lo..hi).filter(|&q| near(at(q), c)).count();
-                !near(c, self.ground) && same as f64 >= EDGE_SHARE * n as f64
-            })
+            let skip = (titles.iter())
+                .filter(|t| t[k] <= p && p < t[k + 2])
+                .fold([u32::MAX, 0], |s, t| [s[0].min(t[o]), s[1].max(t[o + 2])]);
+            self.edge_line_but(r, k, p, skip)
         };
         let all = edge(1, r[1]) && edge(1, r[3] - 1) && edge(0, r[0]) && edge(0, r[2] - 1);
         all.then(|| self.commonest(r))
+    }
+
+    /// Whether line `p` along axis `k` across box `r` is mostly one colour other than the
+    /// ground ([`EDGE_SHARE`]): a frame's line, or a fill's edge.
+    fn edge_line(&self, r: [u32; 4], k: usize, p: u32) -> bool {
+        self.edge_line_but(r, k, p, [0, 0])
+    }
+
+    /// [`Page::edge_line`] along the line but for span `skip` of it (a title's).
+    fn edge_line_but(&self, r: [u32; 4], k: usize, p: u32, skip: [u32; 2]) -> bool {
+        let o = 1 - k;
+        let at = |q: u32| self.on_line(k, p, q);
+        let (lo, hi) = (r[o], r[o + 2]);
+        let kept = |q: &u32| *q < skip[0] || *q >= skip[1];
+        let n = (lo..hi).filter(kept).count() as u32;
+        if n == 0 || n < (hi - lo) / 4 {
+            return false;
+        }
+        // The colour of a quarter, the middle or three quarters along, whichever most
+        // of the line has (a title set in the frame's line hides one of them).
+        let nth = |i: u32| (lo..hi).filter(kept).nth(i as usize);
+        [1, 2, 3].iter().filter_map(|i| nth(n * i / 4)).any(|c0| {
+            let c = at(c0);
+            let same = (lo..hi).filter(kept).filter(|&q| near(at(q), c)).count();
+            !near(c, self.ground) && same as f64 >= EDGE_SHARE * n as f64
+        })
+    }
+
+    /// Box `r` (content on the ground) less what a title set in its frame's line sticks
+    /// out beyond that line (a terminal's panels: the title over the frame's top line,
+    /// standing taller than it), and the text blocks that do. Along each side whose line
+    /// is no frame, the frame's line is sought inward, no further than the text across the
+    /// side reaches.
+    fn framed(&self, r: [u32; 4]) -> ([u32; 4], Vec<[u32; 4]>) {
+        let mut b = r;
+        let mut titles: Vec<[u32; 4]> = Vec::new();
+        for (k, far) in [(1, false), (1, true), (0, false), (0, true)] {
+            let o = 1 - k;
+            if b[k + 2] - b[k] < LEAST_CARD_PX {
+                break;
+            }
+            let side = if far { b[k + 2] - 1 } else { b[k] };
+            if self.edge_line(b, k, side) {
+                continue;
+            }
+            let across: Vec<[u32; 4]> = (self.text.iter())
+                .map(|t| [t.x0, t.y0, t.x1 + 1, t.y1 + 1])
+                .filter(|t| t[k] <= side && side < t[k + 2])
+                .filter(|t| t[o] >= b[o] && t[o + 2] <= b[o + 2])
+                .collect();
+            // A title not read as text (its glyphs touch the line) reaches a line of type.
+            let reach = (across.iter())
+                .map(|t| {
+                    if far {
+                        side - t[k]
+                    } else {
+                        t[k + 2] - 1 - side
+                    }
+                })
+                .max()
+                .unwrap_or(self.tallest_line);
+            // The span the ink sticking out covers along the side, so far: the title's,
+            // which hides that much of the frame's line.
+            let mut stuck = [u32::MAX, 0];
+            let mut found = None;
+            for d in 1..=reach.min((b[k + 2] - b[k]) / 2) {
+                let l = if far { side + 1 - d } else { side + d - 1 };
+                for q in b[o]..b[o + 2] {
+                    if !near(self.on_line(k, l, q), self.ground) {
+                        stuck = [stuck[0].min(q), stuck[1].max(q + 1)];
+                    }
+                }
+                let p = if far { side - d } else { side + d };
+                if self.edge_line_but(b, k, p, stuck) {
+                    found = Some((p, d));
+                    break;
+                }
+            }
+            let Some((p, d)) = found else {
+                continue;
+            };
+            if across.is_empty() && stuck[0] < stuck[1] {
+                // The title's box: the ink sticking out, as far again past the line.
+                let (k0, k1) = match far {
+                    true => (p.saturating_sub(d), side + 1),
+                    false => (side, p + d + 1),
+                };
+                titles.push(match k {
+                    0 => [k0, stuck[0], k1, stuck[1]],
+                    _ => [stuck[0], k0, stuck[1], k1],
+                });
+            }
+            match far {
+                true => b[k + 2] = p + 1,
+                false => b[k] = p,
+            }
+            titles.extend(across);
+        }
+        (b, titles)
     }
 
     /// The commonest colour of `r`, read on a sparse grid: a fill outnumbers every other
@@ -345,18 +540,39 @@ impl Page<'_> {
     }
 
     /// The inside of box `r`: less the lines along its edges one colour across (its
-    /// frame's lines, its padding); `None` for a box of such lines alone.
-    fn inner(&self, r: [u32; 4]) -> Option<[u32; 4]> {
+    /// frame's lines, its padding; the `titles` set in them aside); `None` for a box of
+    /// such lines alone.
+    fn inner(&self, r: [u32; 4], titles: &[[u32; 4]]) -> Option<[u32; 4]> {
+        let plain = |k: usize, p: u32| match titles.is_empty() {
+            true => self.plain_line(r, k, p),
+            false => self.plain_line_but(r, k, p, titles),
+        };
         let mut i = r;
         for k in 0..2 {
-            while i[k] < i[k + 2] && self.plain_line(r, k, i[k]) {
+            while i[k] < i[k + 2] && plain(k, i[k]) {
                 i[k] += 1;
             }
-            while i[k + 2] > i[k] && self.plain_line(r, k, i[k + 2] - 1) {
+            while i[k + 2] > i[k] && plain(k, i[k + 2] - 1) {
                 i[k + 2] -= 1;
             }
         }
         (i[0] < i[2] && i[1] < i[3]).then_some(i)
+    }
+
+    /// [`Page::plain_line`], the pixels of boxes `skip` aside.
+    fn plain_line_but(&self, rect: [u32; 4], k: usize, p: u32, skip: &[[u32; 4]]) -> bool {
+        let o = 1 - k;
+        let n = rect[o + 2] - rect[o];
+        let corner = CORNER_PX.min(n / 8);
+        let skipped =
+            |q: u32| (skip.iter()).any(|b| b[o] <= q && q < b[o + 2] && b[k] <= p && p < b[k + 2]);
+        let mut seen = (rect[o] + corner..rect[o + 2] - corner)
+            .filter(|&q| !skipped(q))
+            .map(|q| self.on_line(k, p, q));
+        let Some(c) = seen.next() else {
+            return true;
+        };
+        seen.all(|v| near(v, c))
     }
 
     /// The body of inside `i` of a box filled with `fill`: from the first to the last line
@@ -421,6 +637,12 @@ impl Page<'_> {
     }
 }
 
+/// Whether the centre of box `b` lies in `rect`.
+fn centre_in(rect: [u32; 4], b: [u32; 4]) -> bool {
+    let (cx, cy) = ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2);
+    cx >= rect[0] && cx < rect[2] && cy >= rect[1] && cy < rect[3]
+}
+
 /// The middle of the first run of `lines` (in the order given) where `ok` holds.
 fn middle_run(lines: impl Iterator<Item = u32>, ok: impl Fn(&u32) -> bool) -> Option<u32> {
     let run: Vec<u32> = lines.skip_while(|p| !ok(p)).take_while(|p| ok(p)).collect();
@@ -474,7 +696,7 @@ mod tests {
         for t in &text {
             fill(&mut img, [t.x0, t.y0, t.x1, t.y1], [0, 0, 0, 255]);
         }
-        let root = detect(img.as_ref(), &text, &[], [240, 240, 240]).expect("cards");
+        let root = detect(img.as_ref(), &text, &[], [&[], &[]], [240, 240, 240]).expect("cards");
         let split = root.split.as_ref().unwrap();
         assert!(split.columns && split.own);
         let leaves = root.leaves();
@@ -487,6 +709,112 @@ mod tests {
         }
     }
 
+    /// A terminal's panels: frames of one thin line on a black page, each filled with the
+    /// page's black, their titles set in the top line and standing taller than it (one title
+    /// not read as text). A tall panel beside two short ones: the row between the short ones
+    /// crosses the tall one's sides, and is no gutter. Three cards, each framed at its line.
+    #[test]
+    fn framed_panels_with_titles_in_their_lines_are_cards() {
+        const BLACK: [u8; 4] = [0, 0, 0, 255];
+        const LINE: [u8; 4] = [9, 206, 208, 255];
+        let mut img = Image::filled(Size::new(400, 300).unwrap(), BLACK);
+        let frame = |img: &mut Image, r: [u32; 4]| {
+            fill(img, [r[0], r[1], r[2], r[1] + 1], LINE);
+            fill(img, [r[0], r[3] - 1, r[2], r[3]], LINE);
+            fill(img, [r[0], r[1], r[0] + 1, r[3]], LINE);
+            fill(img, [r[2] - 1, r[1], r[2], r[3]], LINE);
+        };
+        let boxes = [[5, 20, 195, 290], [205, 20, 395, 140], [205, 170, 395, 290]];
+        let mut text = Vec::new();
+        for (i, b) in boxes.iter().enumerate() {
+            frame(&mut img, *b);
+            // The title: 12 px of type over the line, from 6 px above it.
+            let t = title(b[0] + 10, b[1] - 6);
+            fill(&mut img, [t.x0, t.y0, t.x1, t.y1], [255; 4]);
+            if i != 2 {
+                text.push(t);
+            }
+            // A body: two bars inside.
+            fill(&mut img, [b[0] + 30, b[3] - 60, b[0] + 60, b[3] - 20], LINE);
+            fill(
+                &mut img,
+                [b[0] + 80, b[3] - 80, b[0] + 110, b[3] - 30],
+                LINE,
+            );
+        }
+        let root = detect(img.as_ref(), &text, &[], [&[], &[]], [0, 0, 0]).expect("cards");
+        let leaves = root.leaves();
+        let cards: Vec<&Card> = leaves.iter().filter_map(|l| l.card.as_ref()).collect();
+        assert_eq!(
+            cards.len(),
+            3,
+            "{:?}",
+            cards.iter().map(|c| c.frame).collect::<Vec<_>>()
+        );
+        for (c, b) in cards.iter().zip(boxes) {
+            assert_eq!(c.frame, b, "framed at its line, not at its title's top");
+            assert!(
+                c.inner[1] > b[1],
+                "the frame's line is no part of its inside"
+            );
+            let body = c.body.expect("a body");
+            assert_eq!(
+                body[1],
+                [b[3] - 80, b[3] - 20],
+                "the body is the bars alone"
+            );
+        }
+    }
+
+    /// A card's chart drawn with its x axis alone (a web chart's baseline): the line with
+    /// tick labels under it and a column of tick labels at its start is a plot, reaching up
+    /// to the topmost label; a line with labels under it alone is none.
+    #[test]
+    fn an_x_axis_with_labels_on_both_sides_is_a_cards_plot() {
+        let mut img = Image::filled(Size::new(400, 300).unwrap(), GROUND);
+        let block = |x0: u32, y0: u32, w: u32| TextBlock {
+            x0,
+            y0,
+            x1: x0 + w,
+            y1: y0 + 12,
+            line_height: 12,
+            sideways: false,
+        };
+        let mut text = vec![title(20, 20), title(220, 20)];
+        for x0 in [10, 210] {
+            fill(&mut img, [x0, 10, x0 + 180, 290], [200, 200, 200, 255]);
+            fill(&mut img, [x0 + 1, 11, x0 + 179, 289], [255; 4]);
+            // The axis, a series over it.
+            fill(&mut img, [x0 + 40, 240, x0 + 170, 241], [0, 0, 0, 255]);
+            fill(&mut img, [x0 + 60, 120, x0 + 150, 200], [30, 120, 180, 255]);
+            // Under the axis, three tick labels.
+            text.extend((0..3).map(|i| block(x0 + 50 + 40 * i, 246, 20)));
+        }
+        // At the start of the left card's axis, three tick labels up its height.
+        text.extend((0..3).map(|i| block(22, 90 + 60 * i, 16)));
+        for t in &text {
+            fill(&mut img, [t.x0, t.y0, t.x1, t.y1], [60, 60, 60, 255]);
+        }
+        let axis = Line {
+            pos: 240.5,
+            from: 50.0,
+            to: 180.0,
+            width: 1,
+        };
+        let other = Line {
+            from: 250.0,
+            to: 380.0,
+            ..axis
+        };
+        let h = [axis, other];
+        let root = detect(img.as_ref(), &text, &[], [&h, &[]], [240, 240, 240]).expect("cards");
+        let leaves = root.leaves();
+        assert_eq!(leaves.len(), 2);
+        // Up to the top label, grown over it as a plot is over the words across its ends.
+        assert_eq!(leaves[0].plots, [vec![[50, 180]], vec![[90, 241]]]);
+        assert!(leaves[1].plots.iter().all(|p| p.is_empty()));
+    }
+
     /// Ink standing on the ground outside any box (a chart drawn on the page itself), or
     /// boxes of their fill alone (a histogram's bars), are no page of cards.
     #[test]
@@ -496,7 +824,7 @@ mod tests {
         fill(&mut img, [230, 40, 380, 42], [0, 0, 0, 255]);
         fill(&mut img, [230, 40, 232, 180], [0, 0, 0, 255]);
         fill(&mut img, [260, 100, 280, 120], [200, 30, 30, 255]);
-        assert!(detect(img.as_ref(), &[], &[], [240, 240, 240]).is_none());
+        assert!(detect(img.as_ref(), &[], &[], [&[], &[]], [240, 240, 240]).is_none());
         let mut bars = Image::filled(Size::new(400, 200).unwrap(), GROUND);
         for i in 0..8 {
             fill(
@@ -505,6 +833,6 @@ mod tests {
                 [150, 100, 200, 255],
             );
         }
-        assert!(detect(bars.as_ref(), &[], &[], [240, 240, 240]).is_none());
+        assert!(detect(bars.as_ref(), &[], &[], [&[], &[]], [240, 240, 240]).is_none());
     }
 }

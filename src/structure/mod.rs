@@ -216,7 +216,7 @@ impl Structure {
                     s.areas.clear();
                     return s;
                 }
-                s.bands = bands::detect(image, &s.text, &s.areas);
+                s.bands = bands::detect(image, &s.text, &s.areas, [&s.horizontal, &s.vertical]);
                 s.areas = vec![DataArea {
                     x0: 1.0,
                     y0: 1.0,

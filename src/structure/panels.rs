@@ -69,13 +69,6 @@ pub struct Split {
 }
 
 impl Panel {
-    /// The rectangle of a card's body where it keeps one scale (a card without plots).
-    pub fn body(&self) -> Option<[u32; 4]> {
-        let b = self.card.as_ref()?.body?;
-        (self.plots[0].is_empty() || self.plots[1].is_empty())
-            .then_some([b[0][0], b[1][0], b[0][1], b[1][1]])
-    }
-
     /// The leaves, in reading order.
     pub fn leaves(&self) -> Vec<&Panel> {
         match &self.split {

@@ -13,7 +13,7 @@ mod saliency;
 mod solve;
 
 pub(crate) use mesh::{MeshStage, Meshed};
-pub(crate) use render::RenderStage;
+pub(crate) use render::{laid_out, RenderStage};
 pub(crate) use saliency::{Saliency, SaliencyStage};
 pub(crate) use solve::{SolveStage, Solved};
 

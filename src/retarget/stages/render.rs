@@ -241,34 +241,50 @@ impl RenderStage {
 /// canvas' text floats all of it or none), the text bands and margins alone give way.
 /// Also the text's placements under the plots' map where it was chosen by them, so that
 /// they are not laid out twice.
-fn laid_out(
+pub(crate) fn laid_out(
     src: &Image,
     mesh: &Mesh,
     warp: &Warp,
     target: crate::image::Size,
 ) -> (CanvasMap, Option<Placements>) {
     let structure = mesh.structure();
-    let map = crate::render::canvas_map(structure, mesh.size(), target);
+    let map = crate::render::canvas_map(structure, mesh.size(), target, true);
     let Some(st) = structure.filter(|s| !s.text.is_empty()) else {
         return (map, None);
     };
     let fallback = CanvasMap::without_plots(structure, mesh.size(), target);
+    let areas = warp.area_maps(mesh);
+    let placed = |map: &CanvasMap| {
+        let maps = AreaMaps {
+            areas: &areas,
+            canvas: Some(map),
+        };
+        match crate::render::area_text_layout(src, st, maps, target, true) {
+            (placements, false) => Some(placements),
+            (_, true) => None,
+        }
+    };
     if map == fallback {
         return (map, None);
     }
-    let areas = warp.area_maps(mesh);
-    let maps = AreaMaps {
-        areas: &areas,
-        canvas: Some(&map),
-    };
-    match crate::render::area_text_layout(src, st, maps, target, true) {
-        (placements, false) => (map, Some(placements)),
-        (_, true) => (fallback, None),
+    if let Some(placements) = placed(&map) {
+        return (map, Some(placements));
     }
+    // Cards whose plots were squeezed, where their type cannot keep its size beside them:
+    // each card at one scale, before the picture's own fallback.
+    if crate::render::squeezes(structure) {
+        let whole = crate::render::canvas_map(structure, mesh.size(), target, false);
+        if whole != fallback {
+            if let Some(placements) = placed(&whole) {
+                return (whole, Some(placements));
+            }
+        }
+    }
+    (fallback, None)
 }
 
 /// Where each text block of a frame is drawn ([`crate::render::area_text_placements`]).
-type Placements = Vec<Option<crate::render::TextPlacement>>;
+pub(crate) type Placements = Vec<Option<crate::render::TextPlacement>>;
 
 /// `src`, or, with marks floating, `src` with them painted out into the buffer `painted`.
 fn painted_out<'a>(
