@@ -293,12 +293,22 @@ impl Page<'_> {
     /// across their ends): the picture's data areas took the card's frame for the plot.
     fn plots_in(&self, inner: [u32; 4]) -> [Vec<[u32; 2]>; 2] {
         let r = inner.map(|v| v as f64);
+        // A plot holding more words than its axes' labels is a picture of labelled cells (a
+        // treemap, an annotated heat map): squeezed, its words at their size would no
+        // longer fit their cells, so it keeps one scale with its card.
+        let cells = |a: [u32; 4]| {
+            let ticks = super::panels::tick_labels(a, self.text);
+            let inside = (self.text.iter())
+                .filter(|t| centre_in(a, [t.x0, t.y0, t.x1 + 1, t.y1 + 1]))
+                .count();
+            ticks < super::panels::LEAST_TICK_LABELS || inside > ticks
+        };
         let mut found: Vec<[u32; 4]> = (areas::within(self.lines[0], self.lines[1], r).iter())
             .map(|a| [a.x0, a.y0, a.x1, a.y1].map(|v| v.round() as u32))
-            .filter(|&a| super::panels::labelled(a, self.text))
+            .filter(|&a| !cells(a))
             .collect();
         if found.is_empty() {
-            found.extend(self.labelled_axis(inner));
+            found.extend(self.labelled_axis(inner).filter(|&a| !cells(a)));
         }
         // Only the words on an axis' side of a plot (its tick labels, left and under it)
         // grow it: a card's title over the plot may straddle its end.
@@ -812,6 +822,50 @@ mod tests {
         assert_eq!(leaves.len(), 2);
         // Up to the top label, grown over it as a plot is over the words across its ends.
         assert_eq!(leaves[0].plots, [vec![[50, 180]], vec![[90, 241]]]);
+        assert!(leaves[1].plots.iter().all(|p| p.is_empty()));
+    }
+
+    /// A grid with its tick labels beside it in a card is a plot; the same grid holding
+    /// more words than its axis has labels (a treemap's, an annotated heat map's cells) is
+    /// none: its words would not fit their cells squeezed.
+    #[test]
+    fn a_grid_of_labelled_cells_is_no_cards_plot() {
+        let mut img = Image::filled(Size::new(400, 300).unwrap(), GROUND);
+        let block = |x0: u32, y0: u32| TextBlock {
+            x0,
+            y0,
+            x1: x0 + 16,
+            y1: y0 + 12,
+            line_height: 12,
+            sideways: false,
+        };
+        let mut text = vec![title(20, 20), title(220, 20)];
+        let mut h = Vec::new();
+        for x0 in [10, 210] {
+            fill(&mut img, [x0, 10, x0 + 180, 290], [200, 200, 200, 255]);
+            fill(&mut img, [x0 + 1, 11, x0 + 179, 289], [255; 4]);
+            for i in 0..5 {
+                let y = 80 + 40 * i;
+                fill(&mut img, [x0 + 50, y, x0 + 170, y + 1], [0, 0, 0, 255]);
+                h.push(Line {
+                    pos: y as f64 + 0.5,
+                    from: (x0 + 50) as f64,
+                    to: (x0 + 170) as f64,
+                    width: 1,
+                });
+                // A tick label at each line's start.
+                text.push(block(x0 + 20, y - 6));
+            }
+        }
+        // The right card's cells each hold a word.
+        text.extend((0..4).flat_map(|i| [block(270, 94 + 40 * i), block(330, 94 + 40 * i)]));
+        for t in &text {
+            fill(&mut img, [t.x0, t.y0, t.x1, t.y1], [60, 60, 60, 255]);
+        }
+        let root = detect(img.as_ref(), &text, &[], [&h, &[]], [240, 240, 240]).expect("cards");
+        let leaves = root.leaves();
+        assert_eq!(leaves.len(), 2);
+        assert_eq!(leaves[0].plots[1], vec![[74, 247]], "{:?}", leaves[0].plots);
         assert!(leaves[1].plots.iter().all(|p| p.is_empty()));
     }
 

@@ -113,6 +113,12 @@ pub(crate) fn detect(image: ImageRef<'_>, text: &[TextBlock], areas: &[DataArea]
 /// edges; laid out as a plot, its content would be squeezed (judged blind: a county map, a
 /// table, a field of sprites squeezed lost to the letterbox).
 pub(super) fn labelled(r: [u32; 4], text: &[TextBlock]) -> bool {
+    tick_labels(r, text) >= LEAST_TICK_LABELS
+}
+
+/// How many tick labels stand along rectangle `r`'s left edge or its bottom, whichever has
+/// more ([`labelled`]).
+pub(super) fn tick_labels(r: [u32; 4], text: &[TextBlock]) -> usize {
     let reach = |t: &TextBlock| TICK_REACH_LINES * t.line_height.max(1);
     let left = (text.iter())
         .filter(|t| {
@@ -126,11 +132,11 @@ pub(super) fn labelled(r: [u32; 4], text: &[TextBlock]) -> bool {
             t.y0 + 2 >= r[3] && t.y0 <= r[3] + reach(t) && (r[0]..r[2]).contains(&cx)
         })
         .count();
-    left.max(below) >= LEAST_TICK_LABELS
+    left.max(below)
 }
 
 /// Least tick labels along an edge for an area to be a plot ([`labelled`]).
-const LEAST_TICK_LABELS: usize = 2;
+pub(super) const LEAST_TICK_LABELS: usize = 2;
 /// How far outside a plot's edge its tick labels stand, in line heights.
 const TICK_REACH_LINES: u32 = 3;
 
