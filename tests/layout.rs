@@ -407,3 +407,54 @@ fn a_cards_plot_is_squeezed_and_its_labels_keep_their_size() {
         );
     }
 }
+
+/// A page of two cards one over the other, the lower one's content set across its width (a
+/// title running into its body's columns, a note from its body's end to the frame), so that
+/// no blank column of its fill can take the room a shorter screen leaves beside its body.
+fn stacked_cards() -> Image {
+    let mut img = Image::filled(Size::new(600, 500).unwrap(), GROUND);
+    for (y0, y1) in [(10, 240), (250, 490)] {
+        rect(&mut img, 10, y0, 590, y1, [200, 200, 200, 255]);
+        rect(&mut img, 11, y0 + 1, 589, y1 - 1, [255; 4]);
+    }
+    draw_label(&mut img, 26.0, 22.0, LABEL_PX, "Sales by region");
+    rect(&mut img, 40, 60, 560, 220, BLUE);
+    draw_label(
+        &mut img,
+        26.0,
+        262.0,
+        LABEL_PX,
+        "Sales by state and by month",
+    );
+    disc(&mut img, 300.0, 390.0, 80.0, BLUE);
+    draw_label(&mut img, 380.0, 460.0, LABEL_PX, "Source: survey of sales");
+    img
+}
+
+/// Where a card's body keeps one scale in a slot wider than it needs, the room over goes
+/// inside the card's frame: each frame stays at its slot's edges, in line with the card
+/// over it, and the ground around the cards keeps its size.
+#[test]
+fn cards_frames_stay_at_their_slots_edges() {
+    let img = stacked_cards();
+    let target = Size::new(600, 300).unwrap();
+    let out = retarget(&img, target, &Options::default()).unwrap();
+    assert_eq!(out.stats.fitted, None, "laid out, not letterboxed");
+    let out = out.image;
+    // The first and last columns off the ground, along a row through each card's middle.
+    let frame = |y: u32| {
+        let off = |x: u32| out.get(x, y) != GROUND;
+        let first = (0..600).find(|&x| off(x)).unwrap();
+        let last = (0..600).rev().find(|&x| off(x)).unwrap();
+        [first, last]
+    };
+    let (top, bottom) = (frame(60), frame(230));
+    assert!(
+        top[0].abs_diff(10) <= 1 && top[1].abs_diff(589) <= 1,
+        "top frame {top:?}"
+    );
+    assert!(
+        bottom[0].abs_diff(top[0]) <= 1 && bottom[1].abs_diff(top[1]) <= 1,
+        "frames in line: {top:?} and {bottom:?}"
+    );
+}
