@@ -58,3 +58,49 @@ fn y4m_header_non_utf8_parameters() {
         "one line: {err:?}"
     );
 }
+
+/// `fuzz/artifacts/retarget_frame/crash-a0be12f3176d5ddef6bacc8dfad91a241ac9005b`: a 45x55
+/// picture with marks mostly off it, retargeted to 1x1 with the structure read. A mark's
+/// ring point 0.007 px above the canvas area's top edge made a sliver that the 1x1 target's
+/// fixed-point grid collapses, in the linear resize too: it was counted as a fold. A fold is
+/// a triangle the warp closes or turns over, not one no map onto the target can keep open.
+#[test]
+fn a_sliver_the_linear_grid_collapses_is_no_fold() {
+    use vizretarget::vector::{PointMark, VectorLayer};
+    use vizretarget::{Frame, Image, Options, Retargeter, Size};
+    let mut img = Image::filled(Size::new(45, 55).unwrap(), [0, 162, 216, 255]);
+    img.set(30, 35, [255; 4]);
+    let mark = |x: f64, y: f64, radius: f64| PointMark {
+        id: None,
+        x,
+        y,
+        radius,
+        fill: [200, 30, 30, 255],
+        stroke: None,
+    };
+    let r = 255.0 / 16.0;
+    let layer = VectorLayer {
+        points: vec![
+            mark(62.25, 63.75, r),
+            mark(63.75, 63.75, r),
+            mark(15.5, 0.0, r),
+            mark(63.75, 63.75, 254.0 / 16.0),
+            mark(46.25, 63.75, r),
+            mark(63.75, 0.0, 165.0 / 16.0),
+        ],
+        ..VectorLayer::default()
+    };
+    let target = Size::new(1, 1).unwrap();
+    let options = Options {
+        structure: true,
+        ..Options::default()
+    }
+    .with_alpha(4.0)
+    .with_analysis(true);
+    let mut r = Retargeter::new(target, options).unwrap();
+    r.send_frame(Frame::new(img, 0).with_marks(layer)).unwrap();
+    let out = r.receive_frame().unwrap();
+    assert_eq!(out.image.size(), target);
+    let a = out.analysis.as_ref().unwrap();
+    assert_eq!(a.warp.folded_triangles(&a.mesh), 0);
+}
