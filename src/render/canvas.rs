@@ -271,10 +271,34 @@ impl AxisMap {
         // hardly seen, while its margins pressed to the edge are.
         let mut gap = LEAST_GAP_SHARE * linear;
         let grown = plot_at(1.0, gap);
+        // Where the type around the plot keeps its size, its margins at the linear
+        // resize's scale would leave the plot well under the linear resize's: the margins
+        // at the canvas' edges give way then (an author's re-render pads its edges a few
+        // pixels), those between the plot and its labels keep their share (judged blind:
+        // pressed too, a title over its plot shrank and an axis title touched its labels).
+        let at_edge = |g: &[u32; 2]| g[0] == 0 || g[1] == n;
+        let edge_margin: f64 = margins
+            .iter()
+            .filter(|g| at_edge(g))
+            .map(|g| (g[1] - g[0]) as f64)
+            .sum();
+        let mut inner_gap = None;
+        let mut scale = grown;
         if grown > linear && grown < linear * (1.0 + LEAST_GROWTH) {
-            gap = linear;
+            let kept = plot_at(1.0, linear);
+            let edged = (mf - parts - edge_margin * gap - (margin - edge_margin) * linear) / plot;
+            match edged >= kept * (1.0 + LEAST_GROWTH) && edged >= least && edged <= 1.0 {
+                true => {
+                    inner_gap = Some(linear);
+                    scale = edged;
+                }
+                false => {
+                    gap = linear;
+                    scale = plot_at(1.0, gap);
+                }
+            }
         }
-        let mut scales = [1.0, gap, plot_at(1.0, gap)];
+        let mut scales = [1.0, gap, scale];
         if scales[2] < least {
             let gap = scales[1];
             let part = match parts > 0.0 {
@@ -299,8 +323,12 @@ impl AxisMap {
         if at_linear(scale, plot) && at_linear(part, parts) && at_linear(gap, margin) {
             return AxisMap::linear(n, m);
         }
+        let margin_gap = |g: &[u32; 2]| match at_edge(g) {
+            true => gap,
+            false => inner_gap.unwrap_or(gap),
+        };
         let mut spans: Vec<([u32; 2], f64, bool)> = (plots.iter().map(|&p| (p, scale, false)))
-            .chain(margins.iter().map(|&g| (g, gap, false)))
+            .chain(margins.iter().map(|&g| (g, margin_gap(&g), false)))
             .chain(parts_spans.iter().map(|&o| (o, part, true)))
             .collect();
         spans.sort_by_key(|s| s.0[0]);
@@ -784,6 +812,25 @@ mod tests {
         }
         assert!(m.slope(50.0) < 0.5 && m.slope(950.0) < 0.5);
         assert_eq!(m.apply(1000.0), 500.0);
+    }
+
+    /// A bar chart made lower, its title, tick labels and axis title kept at their size:
+    /// with its margins at the linear resize's scale the plot would come out well under it
+    /// (0.54 of its height against 0.60); the margins give way and it grows back past it.
+    #[test]
+    fn margins_give_way_where_the_type_around_a_plot_keeps_its_size() {
+        let (plots, margins) = ([[57, 495]], [[0, 31], [502, 503], [517, 522], [540, 568]]);
+        let type_spans = [[31, 57], [495, 502], [503, 517], [522, 540]];
+        let m = AxisMap::around_plots(568, 340, &plots, &margins, &type_spans);
+        let linear = 340.0 / 568.0;
+        let plot = m.slope(300.0);
+        assert!(plot > linear, "plot at {plot}, linear {linear}");
+        assert!(
+            m.slope(15.0) < 0.5 * linear,
+            "top margin at {}",
+            m.slope(15.0)
+        );
+        assert!((m.slope(40.0) - 1.0).abs() < 1e-9, "the title at its size");
     }
 
     #[test]
