@@ -1091,7 +1091,7 @@ fn ink_box(src: &Image, rect: [u32; 4], colour: [u8; 3], reach: u32) -> [u32; 4]
 /// stays plain.
 fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     let counts = ring_colours(src, rect);
-    if counts.iter().any(|&(c, _)| same_colour(c, colour)) {
+    if counts.iter().any(|&(c, _)| same_colour(c, colour)) && runs_on(src, rect, colour) {
         return false;
     }
     let all: u32 = counts.iter().map(|c| c.1).sum();
@@ -1099,6 +1099,30 @@ fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     inks.sort_unstable_by_key(|b| std::cmp::Reverse(b.1));
     let few: u32 = inks.iter().take(GROUND_COLOURS).map(|c| c.1).sum();
     few as f64 >= FLAT_GROUND * all.max(1) as f64
+}
+
+/// Whether `colour` on the border of `rect` (a blob's box grown by [`RIM_PX`] + 1) runs on
+/// from the box inside: a pixel of it on the border whose line straight in to the box's
+/// middle stays of that colour up to the box. A neighbour of that colour past a gap of
+/// ground (a scatter's two dots side by side) does not.
+fn runs_on(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
+    let (w, h) = (src.width(), src.height());
+    let [x0, y0] = [rect[0].min(w - 1), rect[1].min(h - 1)];
+    let [x1, y1] = [rect[2].clamp(x0 + 1, w) - 1, rect[3].clamp(y0 + 1, h) - 1];
+    let inset = RIM_PX + 1;
+    let of = |x: u32, y: u32| {
+        let p = src.get(x, y);
+        same_colour([p[0], p[1], p[2]], colour)
+    };
+    // From each border pixel of the colour, `inset` steps in toward the box.
+    let walk = |x: u32, y: u32, dx: i64, dy: i64| {
+        (0..=inset as i64).all(|k| {
+            let (px, py) = (x as i64 + k * dx, y as i64 + k * dy);
+            px >= 0 && py >= 0 && (px as u32) < w && (py as u32) < h && of(px as u32, py as u32)
+        })
+    };
+    (x0..=x1).any(|x| (of(x, y0) && walk(x, y0, 0, 1)) || (of(x, y1) && walk(x, y1, 0, -1)))
+        || (y0..=y1).any(|y| (of(x0, y) && walk(x0, y, 1, 0)) || (of(x1, y) && walk(x1, y, -1, 0)))
 }
 
 /// Colours with their counts, each blend of two others (an antialiased edge between a line
@@ -2209,6 +2233,34 @@ mod tests {
     }
 
     use super::*;
+
+    /// Two dots of one colour side by side, a gap of ground between them, each stand alone
+    /// (their colour floats); a blob whose colour runs on past its box (a region, a bar cut
+    /// by the box) does not.
+    #[test]
+    fn a_dot_beside_another_stands_alone_a_region_does_not() {
+        let mut img = Image::filled(crate::image::Size::new(60, 40).unwrap(), [255; 4]);
+        let red = [214, 39, 40, 255];
+        for (cx, cy) in [(20.0f64, 20.0f64), (33.0, 20.0)] {
+            for y in 0..40 {
+                for x in 0..60 {
+                    if (x as f64 + 0.5 - cx).hypot(y as f64 + 0.5 - cy) <= 5.0 {
+                        img.set(x, y, red);
+                    }
+                }
+            }
+        }
+        let grown = |b: [u32; 4]| [b[0] - 3, b[1] - 3, b[2] + 3, b[3] + 3];
+        // The left dot's box: its ring crosses the right dot, 3 px off.
+        assert!(stands_alone(&img, grown([15, 15, 25, 25]), [214, 39, 40]));
+        // A bar running on past the box it was cut to.
+        for y in 15..25 {
+            for x in 15..50 {
+                img.set(x, y, red);
+            }
+        }
+        assert!(!stands_alone(&img, grown([15, 15, 25, 25]), [214, 39, 40]));
+    }
 
     #[test]
     fn the_next_candidate_is_the_first_unseen_important_cell() {
