@@ -273,9 +273,10 @@ impl AxisMap {
         let grown = plot_at(1.0, gap);
         // Where the type around the plot keeps its size, its margins at the linear
         // resize's scale would leave the plot well under the linear resize's: the margins
-        // at the canvas' edges give way then (an author's re-render pads its edges a few
-        // pixels), those between the plot and its labels keep their share (judged blind:
-        // pressed too, a title over its plot shrank and an axis title touched its labels).
+        // at the edges of what is laid out (the canvas, or a card laid out in its slot) give
+        // way then (an author's re-render pads its edges a few pixels), those between the
+        // plot and its labels keep their share (judged blind: pressed too, a title over its
+        // plot shrank and an axis title touched its labels).
         let at_edge = |g: &[u32; 2]| g[0] == 0 || g[1] == n;
         let edge_margin: f64 = margins
             .iter()

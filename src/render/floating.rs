@@ -1083,9 +1083,9 @@ fn ink_box(src: &Image, rect: [u32; 4], colour: [u8; 3], reach: u32) -> [u32; 4]
     [x0, y0, x1, y1]
 }
 
-/// Whether a blob of `colour` inside `rect` stands alone on a plain ground: the border of
-/// `rect` holds none of its colour (it does not run on beyond its box: a region of a map,
-/// a cluster) and, bar a few pixels, at most [`GROUND_COLOURS`] colours once their
+/// Whether a blob of `colour` inside `rect` stands alone on a plain ground: its colour does
+/// not run on from its box to the border of `rect` ([`runs_on`]: a region of a map, a
+/// cluster, a line through a marker) and, bar a few pixels, at most [`GROUND_COLOURS`] colours once their
 /// antialiased blends are folded in ([`unblended`]): a dot on the boundary of two regions,
 /// a graph's node where lines of two colours meet it. So the ground painted in under it
 /// stays plain.
@@ -1102,9 +1102,9 @@ fn stands_alone(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
 }
 
 /// Whether `colour` on the border of `rect` (a blob's box grown by [`RIM_PX`] + 1) runs on
-/// from the box inside: a pixel of it on the border whose line straight in to the box's
-/// middle stays of that colour up to the box. A neighbour of that colour past a gap of
-/// ground (a scatter's two dots side by side) does not.
+/// from the box inside: a pixel of it on the border joined to the box through pixels of it
+/// in the band between them (8-connected: a slanted line one pixel wide joins). A neighbour
+/// of that colour past a gap of ground (a scatter's two dots side by side) does not.
 fn runs_on(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     let (w, h) = (src.width(), src.height());
     let [x0, y0] = [rect[0].min(w - 1), rect[1].min(h - 1)];
@@ -1114,15 +1114,42 @@ fn runs_on(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
         let p = src.get(x, y);
         same_colour([p[0], p[1], p[2]], colour)
     };
-    // From each border pixel of the colour, `inset` steps in toward the box.
-    let walk = |x: u32, y: u32, dx: i64, dy: i64| {
-        (0..=inset as i64).all(|k| {
-            let (px, py) = (x as i64 + k * dx, y as i64 + k * dy);
-            px >= 0 && py >= 0 && (px as u32) < w && (py as u32) < h && of(px as u32, py as u32)
-        })
-    };
-    (x0..=x1).any(|x| (of(x, y0) && walk(x, y0, 0, 1)) || (of(x, y1) && walk(x, y1, 0, -1)))
-        || (y0..=y1).any(|y| (of(x0, y) && walk(x0, y, 1, 0)) || (of(x1, y) && walk(x1, y, -1, 0)))
+    // Depth into the band: 0 on the border, `inset` at the box.
+    let depth = |x: u32, y: u32| (x - x0).min(x1 - x).min(y - y0).min(y1 - y);
+    let mut seen = std::collections::HashSet::new();
+    let mut stack: Vec<(u32, u32)> = (x0..=x1)
+        .flat_map(|x| [(x, y0), (x, y1)])
+        .chain((y0..=y1).flat_map(|y| [(x0, y), (x1, y)]))
+        .filter(|&(x, y)| of(x, y))
+        .collect();
+    while let Some((x, y)) = stack.pop() {
+        if !seen.insert((x, y)) {
+            continue;
+        }
+        if depth(x, y) >= inset {
+            return true;
+        }
+        for (dx, dy) in [
+            (-1i64, -1i64),
+            (0, -1),
+            (1, -1),
+            (-1, 0),
+            (1, 0),
+            (-1, 1),
+            (0, 1),
+            (1, 1),
+        ] {
+            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+            if nx < x0 as i64 || ny < y0 as i64 || nx > x1 as i64 || ny > y1 as i64 {
+                continue;
+            }
+            let (nx, ny) = (nx as u32, ny as u32);
+            if depth(nx, ny) <= inset && of(nx, ny) {
+                stack.push((nx, ny));
+            }
+        }
+    }
+    false
 }
 
 /// Colours with their counts, each blend of two others (an antialiased edge between a line
@@ -2235,8 +2262,8 @@ mod tests {
     use super::*;
 
     /// Two dots of one colour side by side, a gap of ground between them, each stand alone
-    /// (their colour floats); a blob whose colour runs on past its box (a region, a bar cut
-    /// by the box) does not.
+    /// (their colour floats); a dot on a slanted line of its colour, or a blob whose colour
+    /// runs on past its box (a region, a bar cut by the box), does not.
     #[test]
     fn a_dot_beside_another_stands_alone_a_region_does_not() {
         let mut img = Image::filled(crate::image::Size::new(60, 40).unwrap(), [255; 4]);
@@ -2253,6 +2280,16 @@ mod tests {
         let grown = |b: [u32; 4]| [b[0] - 3, b[1] - 3, b[2] + 3, b[3] + 3];
         // The left dot's box: its ring crosses the right dot, 3 px off.
         assert!(stands_alone(&img, grown([15, 15, 25, 25]), [214, 39, 40]));
+        // A slanted line of its colour through the left dot, one pixel wide.
+        let mut lined = img.clone();
+        for k in 0..12 {
+            lined.set(24 + k, 24 + k, red);
+        }
+        assert!(!stands_alone(
+            &lined,
+            grown([15, 15, 25, 25]),
+            [214, 39, 40]
+        ));
         // A bar running on past the box it was cut to.
         for y in 15..25 {
             for x in 15..50 {

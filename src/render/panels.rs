@@ -242,21 +242,22 @@ fn card_maps(p: &Panel, card: &Card, slot: [u32; 4]) -> [AxisMap; 2] {
             .map(|&l| [l - a, l - a + 1])
             .filter(|e| blank.iter().any(|g| g[0] <= e[0] && e[1] <= g[1]))
             .collect();
-        // Without such a line, the blank inside the frame takes the room over, past the
-        // card's first content (its title's start, or its body's): the frame stays at its
-        // slot's edges, in line with its neighbours', the ground around it and the padding
-        // before the title at their size, the body centred.
+        // Without such a line, the blank inside the frame past the card's first content (its
+        // title's start, or its body's) takes the room over: the frame stays at its slot's
+        // edges, in line with its neighbours', and the ground around it and the padding
+        // before its first content keep their size.
         let inner = [
             card.inner[k].max(a) - a,
             card.inner[k + 2].min(p.rect[k + 2]) - a,
         ];
         let frame = [[0, inner[0]], [inner[1], n as u32]];
-        let starts: Vec<u32> = typed.iter().map(|t| t[0]).collect();
-        let first = starts.iter().copied().fold(b[0], u32::min);
+        let first = (typed.iter().map(|t| t[0]))
+            .chain(card.body.map(|_| b[0]))
+            .min()
+            .unwrap_or(0);
         let inside: Vec<[u32; 2]> = match edges.is_empty() {
             true => (blank.iter())
                 .flat_map(|&g| super::canvas::complement_within(g, &frame))
-                .flat_map(|g| split_at(g, &starts))
                 .filter(|g| g[0] >= first)
                 .collect(),
             false => Vec::new(),
@@ -279,7 +280,7 @@ fn card_maps(p: &Panel, card: &Card, slot: [u32; 4]) -> [AxisMap; 2] {
         };
         let scales: Vec<f64> = match over {
             true => {
-                // Each stretched run takes an equal share (the body centred between them).
+                // Each stretched run takes an equal share.
                 let share = (room - blank_len) / stretched.len() as f64;
                 (blank.iter())
                     .map(|g| match stretched.contains(g) {
@@ -305,22 +306,6 @@ fn card_maps(p: &Panel, card: &Card, slot: [u32; 4]) -> [AxisMap; 2] {
         };
         map.moved([a as f64, slot[k] as f64])
     })
-}
-
-/// Span `g` cut at each of `at` inside it.
-fn split_at(g: [u32; 2], at: &[u32]) -> Vec<[u32; 2]> {
-    let mut cuts: Vec<u32> = at
-        .iter()
-        .copied()
-        .filter(|&c| c > g[0] && c < g[1])
-        .collect();
-    cuts.sort_unstable();
-    cuts.dedup();
-    let ends = std::iter::once(g[0])
-        .chain(cuts)
-        .chain(std::iter::once(g[1]));
-    let ends: Vec<u32> = ends.collect();
-    ends.windows(2).map(|w| [w[0], w[1]]).collect()
 }
 
 /// Least scale of a card's blank runs, as a share of its slot's (at most 1).

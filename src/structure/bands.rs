@@ -57,7 +57,9 @@ pub struct Bands {
     pub type_y: Vec<[u32; 2]>,
     /// The rectangles, `[x0, y0, x1, y1]` half-open, of the data areas whose edges are
     /// labelled as an axis' are ([`super::panels::labelled`]): what is inside a plot (a
-    /// card's frame around a table or a map is no plot its text is inside of).
+    /// card's frame around a table or a map is no plot its text is inside of). On a page of
+    /// cards, the plots found inside the cards instead: each card's plot spans across by
+    /// its plot spans down.
     pub plot_rects: Vec<[u32; 4]>,
     /// The panels the picture's plots stand in, where gutters split them apart
     /// ([`super::panels`]): each is laid out on its own.

@@ -231,6 +231,15 @@ impl Page<'_> {
             return Some(me);
         };
         let (boxed, titles) = self.framed(content);
+        // A title set in the frame's line is type, read as text or not: it keeps its size.
+        for (k, spans) in me.type_spans.iter_mut().enumerate() {
+            *spans = merged(
+                spans
+                    .iter()
+                    .copied()
+                    .chain(titles.iter().map(|t| [t[k], t[k + 2]])),
+            );
+        }
         // A data area as large as the card is the card's frame, not a plot in it.
         let frame = |s: &[[u32; 2]], k: usize| {
             let side = (boxed[k + 2] - boxed[k]) as f64;
@@ -761,6 +770,12 @@ mod tests {
             "{:?}",
             cards.iter().map(|c| c.frame).collect::<Vec<_>>()
         );
+        for (l, b) in leaves.iter().zip(boxes) {
+            // Each title is type, the one not read as text too: it keeps its size.
+            let title = [b[1] - 6, b[1] + 6];
+            let typed = |s: &[u32; 2]| s[0] <= title[0] && title[1] <= s[1];
+            assert!(l.type_spans[1].iter().any(typed), "{:?}", l.type_spans[1]);
+        }
         for (c, b) in cards.iter().zip(boxes) {
             assert_eq!(c.frame, b, "framed at its line, not at its title's top");
             assert!(
