@@ -63,25 +63,13 @@ pub(crate) fn detect(
     if w < 2 * LEAST_CARD_PX || h < 2 * LEAST_CARD_PX {
         return None;
     }
-    let ground = [ground[0], ground[1], ground[2], 255];
-    // Which pixels are off the ground, row by row and column by column: the gutter search
-    // reads every line of every part at each depth of the cut.
-    let (wu, hu) = (w as usize, h as usize);
-    let off: Vec<bool> = image.pixels().iter().map(|&p| !near(p, ground)).collect();
-    let mut off_t = vec![false; wu * hu];
-    for (y, row) in off.chunks_exact(wu).enumerate() {
-        for (x, &v) in row.iter().enumerate() {
-            off_t[x * hu + y] = v;
-        }
-    }
     let page = Page {
         image,
         text,
         plots,
         lines,
-        ground,
+        ground: [ground[0], ground[1], ground[2], 255],
         tallest_line: text.iter().map(|t| t.line_height).max().unwrap_or(0),
-        off: [off_t, off],
     };
     let root = page.cut([0, 0, w, h], 0)?;
     root.split.as_ref()?;
@@ -98,9 +86,6 @@ struct Page<'a> {
     ground: [u8; 4],
     /// The tallest line of type, pixels: how far a title may stand out of its frame.
     tallest_line: u32,
-    /// Whether each pixel is off the ground: `[0]` column by column, `[1]` row by row (the
-    /// lines of [`Page::on_line`]'s axes, each contiguous).
-    off: [Vec<bool>; 2],
 }
 
 fn near(a: [u8; 4], b: [u8; 4]) -> bool {
@@ -126,14 +111,8 @@ impl Page<'_> {
         let o = 1 - k;
         let n = rect[o + 2] - rect[o];
         let allowed = ((n as f64 * STRAY_SHARE) as usize).max(STRAY_PX);
-        let len = match k {
-            0 => self.image.height(),
-            _ => self.image.width(),
-        } as usize;
-        let line = &self.off[k][p as usize * len..][..len];
-        line[rect[o] as usize..rect[o + 2] as usize]
-            .iter()
-            .filter(|&&v| v)
+        (rect[o]..rect[o + 2])
+            .filter(|&q| !near(self.on_line(k, p, q), self.ground))
             .nth(allowed)
             .is_none()
     }
