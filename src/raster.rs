@@ -12,6 +12,19 @@ pub const SUBPIXEL_BITS: u32 = 12;
 /// One pixel in fixed-point units.
 pub const ONE: i64 = 1 << SUBPIXEL_BITS;
 
+/// The eight neighbours of a pixel, as steps `(dx, dy)`: what flood fills of 8-connected
+/// pixels walk.
+pub const NEIGHBOURS_8: [(i64, i64); 8] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
+
 /// Snaps a coordinate to the fixed-point grid, as an `f64` (exactly representable).
 #[inline]
 pub fn snap(v: f64) -> f64 {

@@ -287,14 +287,19 @@ fn the_panels_of_a_dashboard_lay_themselves_out() {
 const GROUND: [u8; 4] = [240, 240, 240, 255];
 const BLUE: [u8; 4] = [31, 119, 180, 255];
 
+/// A card on the page: a grey frame one pixel wide around a white fill.
+fn card(img: &mut Image, r: [u32; 4]) {
+    rect(img, r[0], r[1], r[2], r[3], [200, 200, 200, 255]);
+    rect(img, r[0] + 1, r[1] + 1, r[2] - 1, r[3] - 1, [255; 4]);
+}
+
 /// A page of two cards on a grey ground, each a white box with a grey frame, a title at its
 /// top and a body under it: a round blob (a map's, whose aspect is data) in the left card,
 /// a block of bars in the right one.
 fn cards() -> Image {
     let mut img = Image::filled(Size::new(800, 500).unwrap(), GROUND);
     for x0 in [10, 405] {
-        rect(&mut img, x0, 10, x0 + 385, 490, [200, 200, 200, 255]);
-        rect(&mut img, x0 + 1, 11, x0 + 384, 489, [255; 4]);
+        card(&mut img, [x0, 10, x0 + 385, 490]);
     }
     draw_label(&mut img, 26.0, 22.0, LABEL_PX, "Sales by state");
     draw_label(&mut img, 421.0, 22.0, LABEL_PX, "Best sellers");
@@ -349,8 +354,7 @@ fn a_page_of_cards_lays_each_card_out_in_its_slot() {
 fn cards_with_a_plot() -> Image {
     let mut img = Image::filled(Size::new(800, 500).unwrap(), GROUND);
     for x0 in [10, 405] {
-        rect(&mut img, x0, 10, x0 + 385, 490, [200, 200, 200, 255]);
-        rect(&mut img, x0 + 1, 11, x0 + 384, 489, [255; 4]);
+        card(&mut img, [x0, 10, x0 + 385, 490]);
     }
     draw_label(&mut img, 26.0, 22.0, LABEL_PX, "Sales by state");
     draw_label(&mut img, 421.0, 22.0, LABEL_PX, "Visits");
@@ -414,8 +418,7 @@ fn a_cards_plot_is_squeezed_and_its_labels_keep_their_size() {
 fn stacked_cards() -> Image {
     let mut img = Image::filled(Size::new(600, 500).unwrap(), GROUND);
     for (y0, y1) in [(10, 240), (250, 490)] {
-        rect(&mut img, 10, y0, 590, y1, [200, 200, 200, 255]);
-        rect(&mut img, 11, y0 + 1, 589, y1 - 1, [255; 4]);
+        card(&mut img, [10, y0, 590, y1]);
     }
     draw_label(&mut img, 26.0, 22.0, LABEL_PX, "Sales by region");
     rect(&mut img, 40, 60, 560, 220, BLUE);

@@ -1116,29 +1116,22 @@ fn runs_on(src: &Image, rect: [u32; 4], colour: [u8; 3]) -> bool {
     };
     // Depth into the band: 0 on the border, `inset` at the box.
     let depth = |x: u32, y: u32| (x - x0).min(x1 - x).min(y - y0).min(y1 - y);
-    let mut seen = std::collections::HashSet::new();
+    let rw = (x1 - x0 + 1) as usize;
+    let mut seen = vec![false; rw * (y1 - y0 + 1) as usize];
     let mut stack: Vec<(u32, u32)> = (x0..=x1)
         .flat_map(|x| [(x, y0), (x, y1)])
         .chain((y0..=y1).flat_map(|y| [(x0, y), (x1, y)]))
         .filter(|&(x, y)| of(x, y))
         .collect();
     while let Some((x, y)) = stack.pop() {
-        if !seen.insert((x, y)) {
+        let at = (y - y0) as usize * rw + (x - x0) as usize;
+        if std::mem::replace(&mut seen[at], true) {
             continue;
         }
         if depth(x, y) >= inset {
             return true;
         }
-        for (dx, dy) in [
-            (-1i64, -1i64),
-            (0, -1),
-            (1, -1),
-            (-1, 0),
-            (1, 0),
-            (-1, 1),
-            (0, 1),
-            (1, 1),
-        ] {
+        for (dx, dy) in crate::raster::NEIGHBOURS_8 {
             let (nx, ny) = (x as i64 + dx, y as i64 + dy);
             if nx < x0 as i64 || ny < y0 as i64 || nx > x1 as i64 || ny > y1 as i64 {
                 continue;

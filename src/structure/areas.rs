@@ -95,25 +95,12 @@ pub(crate) fn within(horizontal: &[Line], vertical: &[Line], rect: [f64; 4]) -> 
     let vs: Vec<Line> = (vertical.iter().copied())
         .filter(|l| inside(l, xs, ys))
         .collect();
-    detect_in(&pieces_joined(&hs), &pieces_joined(&vs), rect, true)
-}
-
-/// The pieces of a line at one position as one line, whatever the gaps between them: in a
-/// card, a grid line broken where a series crosses it.
-fn pieces_joined(lines: &[Line]) -> Vec<Line> {
-    let mut sorted = lines.to_vec();
-    sorted.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.from.total_cmp(&b.from)));
-    let mut out: Vec<Line> = Vec::with_capacity(sorted.len());
-    for l in sorted {
-        match out.last_mut() {
-            Some(o) if (o.pos - l.pos).abs() < 0.75 => {
-                o.to = o.to.max(l.to);
-                o.width = o.width.max(l.width);
-            }
-            _ => out.push(l),
-        }
-    }
-    out
+    detect_in(
+        &joined(&hs, f64::INFINITY),
+        &joined(&vs, f64::INFINITY),
+        rect,
+        true,
+    )
 }
 
 /// The data areas of the lines in `rect`; `ragged`: a grid's lines need share one end only
@@ -126,7 +113,8 @@ fn detect_in(
 ) -> Vec<DataArea> {
     let (w, h) = (rect[2] - rect[0], rect[3] - rect[1]);
     let long = |l: &&Line, side: f64| l.to - l.from >= (MIN_SHARE * side).max(MIN_PX);
-    let (horizontal, vertical) = (joined(horizontal), joined(vertical));
+    let gap = 2.0 * CORNER_PX;
+    let (horizontal, vertical) = (joined(horizontal, gap), joined(vertical, gap));
     let hs: Vec<&Line> = horizontal.iter().filter(|l| long(l, w)).collect();
     let vs: Vec<&Line> = vertical.iter().filter(|l| long(l, h)).collect();
     let mut found = Vec::new();
@@ -146,15 +134,16 @@ fn detect_in(
     merge(found)
 }
 
-/// Collinear pieces with short gaps as one line: a heat map's separators, broken where they
-/// cross (both sides of a crossing are the separator's colour, so nothing steps there).
-fn joined(lines: &[Line]) -> Vec<Line> {
+/// Collinear pieces with gaps up to `gap` as one line: a heat map's separators, broken where
+/// they cross (both sides of a crossing are the separator's colour, so nothing steps there);
+/// in a card, whatever the gap, a grid line broken where a series crosses it.
+fn joined(lines: &[Line], gap: f64) -> Vec<Line> {
     let mut sorted = lines.to_vec();
     sorted.sort_by(|a, b| a.pos.total_cmp(&b.pos).then(a.from.total_cmp(&b.from)));
     let mut out: Vec<Line> = Vec::with_capacity(sorted.len());
     for l in sorted {
         match out.last_mut() {
-            Some(o) if (o.pos - l.pos).abs() < 0.75 && l.from - o.to <= 2.0 * CORNER_PX => {
+            Some(o) if (o.pos - l.pos).abs() < 0.75 && l.from - o.to <= gap => {
                 o.to = o.to.max(l.to);
                 o.width = o.width.max(l.width);
             }

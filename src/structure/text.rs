@@ -242,16 +242,7 @@ fn components(mask: &[bool], w: usize, h: usize) -> Vec<Comp> {
             y0 = y0.min(y);
             x1 = x1.max(x + 1);
             y1 = y1.max(y + 1);
-            for (dx, dy) in [
-                (-1i64, -1i64),
-                (0, -1),
-                (1, -1),
-                (-1, 0),
-                (1, 0),
-                (-1, 1),
-                (0, 1),
-                (1, 1),
-            ] {
+            for (dx, dy) in crate::raster::NEIGHBOURS_8 {
                 let (nx, ny) = (x as i64 + dx, y as i64 + dy);
                 if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
                     continue;
