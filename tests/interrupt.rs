@@ -70,9 +70,14 @@ fn raw_rgb(i: usize) -> Vec<u8> {
     frame(i).pixels().flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
-/// Which frame a retargeted picture is, from its band colour.
+/// Which frame a retargeted picture is, from its band colour: the first colour down the
+/// middle that is not the white ground (the picture may be drawn at one scale, below a
+/// band of its ground).
 fn which(img: &image::RgbaImage) -> Option<usize> {
-    let p = img.get_pixel(img.width() / 2, 4).0;
+    // Two rows into the band: its first may blend with the ground.
+    let x = img.width() / 2;
+    let top = (0..img.height()).find(|&y| img.get_pixel(x, y).0[..3].iter().any(|&v| v < 200))?;
+    let p = img.get_pixel(x, (top + 2).min(img.height() - 1)).0;
     (0..8).find(|&i| {
         let c = colour(i);
         (0..3).all(|k| (p[k] as i32 - c[k] as i32).abs() <= 24)

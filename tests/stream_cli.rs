@@ -60,9 +60,14 @@ fn png(img: &image::RgbaImage) -> Vec<u8> {
     out.into_inner()
 }
 
-/// Which frame a retargeted picture is, from its band colour (within `tol` per channel).
+/// Which frame a retargeted picture is, from its band colour (within `tol` per channel):
+/// the first colour down the middle that is not the white ground (the picture may be drawn
+/// at one scale, below a band of its ground).
 fn which(img: &image::RgbaImage, tol: i32) -> Option<usize> {
-    let p = img.get_pixel(img.width() / 2, 4).0;
+    // Two rows into the band: its first may blend with the ground.
+    let x = img.width() / 2;
+    let top = (0..img.height()).find(|&y| img.get_pixel(x, y).0[..3].iter().any(|&v| v < 200))?;
+    let p = img.get_pixel(x, (top + 2).min(img.height() - 1)).0;
     (0..12).find(|&i| {
         let c = colour(i);
         (0..3).all(|k| (p[k] as i32 - c[k] as i32).abs() <= tol)

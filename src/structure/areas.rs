@@ -23,6 +23,9 @@ const MIN_PX: f64 = 32.0;
 /// How far apart two line ends may be and still meet at a corner, pixels: ticks and the
 /// thickness of the lines themselves leave a few pixels between them.
 const CORNER_PX: f64 = 4.0;
+/// Longest tick, pixels, by which an axis line may run past the other axis at their corner:
+/// matplotlib's 3.5 pt at 200 dpi is 10 px, ggplot2's 2.75 pt at 2× about 8.
+const TICK_PX: f64 = 12.0;
 /// Least number of evenly spaced lines that make a grid.
 const MIN_GRID_LINES: usize = 4;
 /// Most deviation of a grid's spacing from its median, as a share of it.
@@ -115,6 +118,10 @@ fn detect_in(
     let long = |l: &&Line, side: f64| l.to - l.from >= (MIN_SHARE * side).max(MIN_PX);
     let gap = 2.0 * CORNER_PX;
     let (horizontal, vertical) = (joined(horizontal, gap), joined(vertical, gap));
+    let (horizontal, vertical) = (
+        bridged(&horizontal, &vertical),
+        bridged(&vertical, &horizontal),
+    );
     let hs: Vec<&Line> = horizontal.iter().filter(|l| long(l, w)).collect();
     let vs: Vec<&Line> = vertical.iter().filter(|l| long(l, h)).collect();
     let mut found = Vec::new();
@@ -153,24 +160,70 @@ fn joined(lines: &[Line], gap: f64) -> Vec<Line> {
     out
 }
 
+/// `lines` with collinear pieces up to [`BRIDGE_PX`] apart joined where no long line of
+/// `across` crosses between them or ends either piece there: an axis is read in pieces where a filled area meets it (a
+/// density's tail standing on it changes its thickness there), and the plot it bounds must
+/// not end at the break. Facets side by side have their frames' sides between their axes.
+fn bridged(lines: &[Line], across: &[Line]) -> Vec<Line> {
+    let long: Vec<&Line> = (across.iter())
+        .filter(|l| l.to - l.from >= MIN_PX)
+        .collect();
+    let mut sorted = lines.to_vec();
+    sorted.sort_by(|a, b| a.from.total_cmp(&b.from));
+    let mut out: Vec<Line> = Vec::with_capacity(sorted.len());
+    'next: for l in sorted {
+        for o in out.iter_mut() {
+            let gap = [o.to, l.from];
+            let crossed = || {
+                (long.iter()).any(|c| {
+                    c.pos >= gap[0] - CORNER_PX
+                        && c.pos <= gap[1] + CORNER_PX
+                        && c.from <= o.pos + CORNER_PX
+                        && c.to >= o.pos - CORNER_PX
+                })
+            };
+            if (o.pos - l.pos).abs() < 0.75
+                && l.from >= o.from
+                && l.from - o.to <= BRIDGE_PX
+                && !crossed()
+            {
+                o.to = o.to.max(l.to);
+                o.width = o.width.max(l.width);
+                continue 'next;
+            }
+        }
+        out.push(l);
+    }
+    out
+}
+
+/// Widest break bridged in a line ([`bridged`]), pixels: where a fill's outline meets an
+/// axis, its stroke and antialiasing, up to 16 px at 2×.
+const BRIDGE_PX: f64 = 16.0;
+
 /// Rectangles from a horizontal and a vertical line meeting at one end of each.
 fn corners(hs: &[&Line], vs: &[&Line], out: &mut Vec<DataArea>) {
     for hl in hs {
         for vl in vs {
             let tol = CORNER_PX + (hl.width.max(vl.width) as f64);
-            let near = |a: f64, b: f64| (a - b).abs() <= tol;
+            // A line's end at the other line, or past it by a tick at most (the tick at an
+            // axis' first value is drawn in line with the other axis, and joins it).
+            let ends_at = |end: f64, at: f64, outward: f64| {
+                let past = (end - at) * outward;
+                past >= -tol && past <= tol + TICK_PX
+            };
             // The vertical line's end at the horizontal line, and the horizontal line's end at
             // the vertical line: the far ends give the rectangle's other sides.
-            let y_far = if near(vl.to, hl.pos) {
+            let y_far = if ends_at(vl.to, hl.pos, 1.0) {
                 vl.from
-            } else if near(vl.from, hl.pos) {
+            } else if ends_at(vl.from, hl.pos, -1.0) {
                 vl.to
             } else {
                 continue;
             };
-            let x_far = if near(hl.from, vl.pos) {
+            let x_far = if ends_at(hl.from, vl.pos, -1.0) {
                 hl.to
-            } else if near(hl.to, vl.pos) {
+            } else if ends_at(hl.to, vl.pos, 1.0) {
                 hl.from
             } else {
                 continue;
@@ -372,6 +425,59 @@ mod tests {
             (50.0, 20.0, 600.0, 300.0)
         );
         assert_eq!(a[0].kind, AreaKind::Axes);
+    }
+
+    /// The tick at the y axis' first value, drawn in line with the x axis, joins it: the x
+    /// axis then runs past the corner by the tick's length, and still makes one.
+    #[test]
+    fn axes_meet_where_a_tick_runs_past_the_corner() {
+        let a = detect(
+            &[line(300.0, 41.0, 600.0)],
+            &[line(50.0, 20.0, 300.0)],
+            640.0,
+            340.0,
+        );
+        assert_eq!(a.len(), 1, "{a:?}");
+        assert_eq!((a[0].x0, a[0].x1), (50.0, 600.0));
+        // Past it by more than a tick: a line crossing the axis, no corner.
+        let b = detect(
+            &[line(300.0, 20.0, 600.0)],
+            &[line(50.0, 20.0, 300.0)],
+            640.0,
+            340.0,
+        );
+        assert!(b.is_empty(), "{b:?}");
+    }
+
+    /// An x axis read in two pieces where a filled area meets it (a density's tail), 14 px
+    /// apart and half a pixel off, bounds one plot to its far end; two facets' axes as far
+    /// apart, each ended by its frame's side, stay two.
+    #[test]
+    fn an_axis_broken_where_a_fill_meets_it_bounds_one_plot() {
+        let mut far = line(300.5, 314.0, 600.0);
+        far.width = 3;
+        let a = detect(
+            &[line(300.0, 50.0, 300.0), far],
+            &[line(50.0, 20.0, 300.0)],
+            640.0,
+            340.0,
+        );
+        assert_eq!(a.len(), 1, "{a:?}");
+        assert_eq!((a[0].x0, a[0].x1), (50.0, 600.0));
+        let facets = detect(
+            &[line(300.0, 50.0, 300.0), line(300.0, 314.0, 600.0)],
+            &[
+                line(50.0, 20.0, 300.0),
+                line(300.0, 20.0, 300.0),
+                line(314.0, 20.0, 300.0),
+            ],
+            640.0,
+            340.0,
+        );
+        assert!(
+            facets.iter().all(|a| a.x1 <= 300.0 || a.x0 >= 314.0),
+            "{facets:?}"
+        );
     }
 
     #[test]

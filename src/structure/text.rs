@@ -500,14 +500,16 @@ fn group_lines(
     // a row of tick labels or ends a column of them (left out, it is squeezed beside labels
     // kept at their size). In line: on the same row, or sharing a left or right edge (a tick
     // mark under its label is centred on it, never edge to edge).
+    let same_size = |lh: u32, olh: u32| lh.max(olh) * 4 <= lh.min(olh) * 5;
     let in_line = |c: &Comp, lh: u32, o: &Comp, olh: u32| {
-        let (lo, hi) = (lh.min(olh), lh.max(olh));
         let overlap = c.y1.min(o.y1) as i64 - c.y0.max(o.y0) as i64;
-        hi * 4 <= lo * 5
+        same_size(lh, olh)
             && (overlap * 10 >= c.h().min(o.h()) as i64 * 6
                 || c.x0.abs_diff(o.x0) <= 1
                 || c.x1.abs_diff(o.x1) <= 1)
     };
+    // A row of lone glyphs evenly spaced is text too ([`evenly_spaced_rows`]), where words
+    // of its size stand elsewhere (the other axis' labels): tick marks in a row are not.
     // A column of lone glyphs alone is text too: a y axis' single-digit tick labels ("2",
     // "4", "6"), at least three one above the other, aligned by an edge, each with ground
     // above and below it (pieces of small multiples' maps line up too, amid other strokes;
@@ -521,15 +523,68 @@ fn group_lines(
             && clear(o)
     };
     let column = |c: &Comp| clear(c) && lone.iter().filter(|o| in_column(c, &o.0)).count() >= 2;
-    let found: Vec<_> = (lone.iter())
-        .filter(|(c, lh, _, _)| {
-            lines.iter().any(|(o, olh, _, _)| in_line(c, *lh, o, *olh)) || column(c)
+    let in_row = evenly_spaced_rows(&lone.iter().map(|l| l.0).collect::<Vec<_>>());
+    let found: Vec<_> = (lone.iter().zip(in_row))
+        .filter(|((c, lh, _, _), row)| {
+            (*row && lines.iter().any(|(_, olh, _, _)| same_size(*lh, *olh)))
+                || lines.iter().any(|(o, olh, _, _)| in_line(c, *lh, o, *olh))
+                || column(c)
         })
-        .copied()
+        .map(|(l, _)| *l)
         .collect();
     lines.extend(found);
     lines.into_iter().map(|(c, lh, k, _)| (c, lh, k)).collect()
 }
+
+/// Which of the lone glyphs `lone` stand in a row of lone glyphs, evenly spaced: an x axis'
+/// single-digit tick labels ("5", "6", "7", "8" under each facet), which a locator sets at
+/// equal steps, tops and baselines aligned. Three at least, each taller than wide (digits
+/// and capitals are; a round or square marker is not), the steps between their centres
+/// equal within [`EVEN_STEPS`] and wider than a glyph (a word's letters are closer).
+/// Such a row was left out as marks, and the plots it labels were taken for no plot.
+fn evenly_spaced_rows(lone: &[Comp]) -> Vec<bool> {
+    let upright = |c: &Comp| c.h() * 5 >= c.w() * 6;
+    let mut order: Vec<usize> = (0..lone.len()).filter(|&i| upright(&lone[i])).collect();
+    order.sort_by_key(|&i| (lone[i].y1, lone[i].x0));
+    let mut row = vec![false; lone.len()];
+    let centre = |c: &Comp| (c.x0 + c.x1) as f64 / 2.0;
+    for (k, &i) in order.iter().enumerate() {
+        let c = &lone[i];
+        // Its row: glyphs of its size whose top and baseline are its own, within a pixel,
+        // by their centres.
+        let mut mates: Vec<usize> = (order[k..].iter())
+            .take_while(|&&j| lone[j].y1 <= c.y1 + 1)
+            .chain(
+                order[..k]
+                    .iter()
+                    .rev()
+                    .take_while(|&&j| lone[j].y1 + 1 >= c.y1),
+            )
+            .copied()
+            .filter(|&j| lone[j].y0.abs_diff(c.y0) <= 1)
+            .collect();
+        mates.sort_by(|&a, &b| centre(&lone[a]).total_cmp(&centre(&lone[b])));
+        let at = mates.iter().position(|&j| j == i).unwrap_or(0);
+        // Any three neighbours in a row, c among them, at equal steps.
+        for s in at.saturating_sub(2)..=at {
+            let Some(t) = mates.get(s..s + 3) else {
+                continue;
+            };
+            let [a, b, d] = [t[0], t[1], t[2]].map(|j| centre(&lone[j]));
+            let (g1, g2) = (b - a, d - b);
+            let wide = (t.iter()).map(|&j| lone[j].w()).max().unwrap_or(0) as f64;
+            if g1.min(g2) > wide && (g1 - g2).abs() <= EVEN_STEPS * g1.max(g2) {
+                row[i] = true;
+            }
+        }
+    }
+    row
+}
+
+/// Most difference between two steps of a row of tick labels, as a share of the larger: a
+/// locator's steps are equal, but a label's centre moves with its glyph's width by a pixel
+/// or two, and a step may be short as 30 px.
+const EVEN_STEPS: f64 = 0.15;
 
 /// Overlapping text lines merged into blocks.
 fn merge_blocks(lines: Vec<(Comp, u32, usize)>) -> Vec<TextBlock> {
@@ -723,6 +778,46 @@ mod tests {
         let alone = detect(&l, w, h, [&[], &[]], &[]);
         assert_eq!(alone.len(), 1, "{alone:?}");
         assert!(alone[0].x0 >= 59 && alone[0].y1 <= 32, "{alone:?}");
+    }
+
+    /// A glyph like a "7": a bar across its top and a stem down from it, in a 6×10 box.
+    fn seven(l: &mut [u8], w: usize, x: usize, y: usize) {
+        for xx in x..x + 6 {
+            l[y * w + xx] = 0;
+        }
+        for yy in y..y + 10 {
+            l[yy * w + x + 4] = 0;
+        }
+    }
+
+    /// Single-digit tick labels of an x axis, evenly spaced in a row, are text where words of
+    /// their size stand elsewhere; the same row where no word is of their size (tick marks)
+    /// is not, nor are three such glyphs unevenly spaced.
+    #[test]
+    fn an_evenly_spaced_row_of_single_digits_is_text() {
+        let (w, h) = (260, 100);
+        let page = |xs: &[usize], word: bool| {
+            let mut l = vec![255u8; w * h];
+            for &x in xs {
+                seven(&mut l, w, x, 60);
+            }
+            if word {
+                // "00" far above: a y axis' label of the digits' size.
+                zero(&mut l, w, 20, 10);
+                zero(&mut l, w, 28, 10);
+            }
+            detect(&l, w, h, [&[], &[]], &[])
+        };
+        let row = page(&[60, 100, 140, 180], true);
+        assert_eq!(row.iter().filter(|b| b.y0 >= 55).count(), 4, "{row:?}");
+        let no_word = page(&[60, 100, 140, 180], false);
+        assert!(no_word.is_empty(), "{no_word:?}");
+        let uneven = page(&[40, 80, 150, 250], true);
+        assert_eq!(
+            uneven.iter().filter(|b| b.y0 >= 55).count(),
+            0,
+            "{uneven:?}"
+        );
     }
 
     /// Thin bars in a row (a histogram's narrow bins) are stems without a word: no text.
