@@ -227,9 +227,9 @@ pub struct Cli {
     /// Do not lay charts out again: by default (under --regions affine) a chart's plots (data
     /// areas found from axes, frames, grids, bars) take the room the parts around them leave,
     /// tick labels, axis titles, legends and titles keep their size, an x axis' crowded tick
-    /// labels drop every other one (first and last kept), and round marks keep their size
-    /// where no two would touch, as the chart's author re-rendering it for the smaller screen
-    /// would. With --no-layout only the text bands and blank margins give way. A picture
+    /// labels drop every other one from the first (steps kept even), and round marks keep
+    /// their size where no two would touch, as the chart's author re-rendering it for the
+    /// smaller screen would. With --no-layout only the text bands and blank margins give way. A picture
     /// without axes, frames, grids or bars (a map, a node-link graph) is the same either way.
     #[arg(long)]
     pub no_layout: bool,

@@ -442,10 +442,10 @@ impl<'a> TextLayout<'a> {
     }
 
     /// Rows of at least [`LEAST_TICKS`] evenly spaced labels of one size along a plot's edge,
-    /// an x axis' tick labels, whose neighbours would collide at their floating scale drop
-    /// every other label, the first and the last kept, and again while they still collide,
-    /// as a chart's axis locator does for a narrower axis: type keeps its size, and what is
-    /// left stays under its tick. A legend's entries and a column of bar names are never
+    /// an x axis' tick labels, whose neighbours would collide at their floating scale keep
+    /// every other label from the first (the last too where the count is odd), every third
+    /// while they still collide, and so on, as a chart's axis locator does for a narrower
+    /// axis: type keeps its size, what is left stays under its tick, the steps even. A legend's entries and a column of bar names are never
     /// thinned.
     fn thin(&self, movers: &[Mover], room: &mut Room) {
         // A row of labels across panels side by side is each panel's axis, thinned apart.
@@ -486,34 +486,26 @@ impl<'a> TextLayout<'a> {
                     })
                     .collect()
             };
-            while kept.len() >= LEAST_TICKS {
-                let b = boxes(&kept);
+            // Every k-th label from the first, for the least k whose labels do not collide:
+            // steps kept even, as a locator keeps them (judged blind, "2.0 3.0 4.5" with the
+            // last kept and the one before it dropped read as a bent axis). The last stays
+            // where the step divides the row.
+            let all = kept;
+            let mut k = 1;
+            loop {
+                let next: Vec<usize> = all.iter().step_by(k).copied().collect();
+                let b = boxes(&next);
                 let collide = b.windows(2).any(|p| match (p[0], p[1]) {
                     (Some(a), Some(c)) => overlap(a, c),
                     _ => false,
                 });
-                if !collide {
+                if !collide || next.len() <= 2 {
+                    for &i in &all {
+                        room.dropped[i] = !next.contains(&i);
+                    }
                     break;
                 }
-                let last = kept.len() - 1;
-                let next: Vec<usize> = (kept.iter().enumerate())
-                    .filter(|&(k, _)| k % 2 == 0 || k == last)
-                    .map(|(_, &i)| i)
-                    .collect();
-                // An even count keeps its last label and the one before it: drop that one.
-                let next = match next.len() >= 2 && kept.len().is_multiple_of(2) {
-                    true => {
-                        let mut n = next;
-                        let before_last = n.len() - 2;
-                        n.remove(before_last);
-                        n
-                    }
-                    false => next,
-                };
-                for &i in &kept {
-                    room.dropped[i] = !next.contains(&i);
-                }
-                kept = next;
+                k += 1;
             }
         }
     }
